@@ -1,0 +1,129 @@
+#ifndef signorini_contact_contact_boundary_h
+#define signorini_contact_contact_boundary_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/parsed_function.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <signorini/linear_algebra.h>
+
+#include <array>
+#include <memory>
+#include <set>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The candidate contact part GC and its discretisation (spec section 2):
+   * the mesh vertices on GC ("nodes"), the contact direction nu_c, the nodal
+   * gap G_k = g(x_k), the weighted gap ghat_k = int_GC g psi_k and the
+   * contact-boundary mass matrix M_jk = int_GC psi_j psi_k over all nodes.
+   *
+   * A node whose normal displacement is prescribed by a Dirichlet condition
+   * (the block's clamped corner) stays in M, since its basis function is part
+   * of the trace space, but carries no multiplier.
+   */
+  template <int dim>
+  class ContactBoundary
+  {
+  public:
+    struct Node
+    {
+      Point<dim>                                position;
+      unsigned int                              vertex;
+      std::array<types::global_dof_index, dim> dofs;
+      bool                                      has_multiplier;
+    };
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Collect the nodes of GC on the current mesh and build M, G and ghat.
+     * Throws if a node of GC is a hanging node (not supported on GC).
+     */
+    void
+    reinit(const Mapping<dim> &              mapping,
+           const DoFHandler<dim> &           dof_handler,
+           const AffineConstraints<double> & dirichlet_constraints,
+           const AffineConstraints<double> & hanging_node_constraints);
+
+    bool
+    empty() const;
+
+    unsigned int
+    n_nodes() const;
+
+    const Node &
+    node(const unsigned int k) const;
+
+    /// Indices (into the node list) of the nodes that carry a multiplier.
+    const std::vector<unsigned int> &
+    multiplier_nodes() const;
+
+    const Tensor<1, dim> &
+    direction() const;
+
+    /// The displacement component that carries the normal constraint of an
+    /// active node: the one with the largest |nu_c| entry.
+    unsigned int
+    constrained_component() const;
+
+    const SparseMatrix<double> &
+    mass_matrix() const;
+
+    const Vector<double> &
+    nodal_gap() const;
+
+    const Vector<double> &
+    weighted_gap() const;
+
+    /// q_N: u(x_k) . nu_c for every node.
+    Vector<double>
+    normal_displacements(const LA::Vector &displacement) const;
+
+    /// v += sum_k forces_k nu_c at the dofs of node k.
+    void
+    add_normal_forces(const Vector<double> &forces, LA::Vector &v) const;
+
+    /// Boundary ids forming GC.
+    const std::set<types::boundary_id> &
+    boundary_ids() const;
+
+    /// Number of active cells with a face on GC.
+    unsigned int
+    n_contact_cells() const;
+
+  private:
+    std::set<types::boundary_id>                    ids;
+    std::string                                     direction_text;
+    std::unique_ptr<Functions::ParsedFunction<dim>> gap_function;
+
+    Tensor<1, dim>            contact_direction;
+    std::vector<Node>         nodes;
+    std::vector<unsigned int> multiplier_node_indices;
+    SparsityPattern           mass_sparsity;
+    SparseMatrix<double>      mass;
+    Vector<double>            gap_at_nodes;
+    Vector<double>            weighted_gap_at_nodes;
+    unsigned int              contact_cell_count = 0;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,56 @@
+#ifndef signorini_contact_frank_wolfe_solver_h
+#define signorini_contact_frank_wolfe_solver_h
+
+#include <signorini/contact/solver.h>
+
+#include <map>
+
+namespace Signorini
+{
+  /**
+   * Frank-Wolfe (conditional gradient, [FRA 56], [MIN 83]) on the dual
+   * problems [23] and [24], written for y = -Lambda (integral) or y = -Gamma
+   * (pointwise):
+   *
+   *   min_{y >= 0} 1/2 y^T S y - d^T y,   S = B K^{-1} B^T,  d = B K^{-1} F - b.
+   *
+   * The feasible set is the cone y >= 0: its extreme rays e_i and its apex 0.
+   * With gradient g = S y - d, the linear subproblem min g^T s over the cone
+   * is unbounded along the ray e_i of the most negative g_i (the step is then
+   * found by exact line search along e_i) or attained at the apex (step
+   * towards 0, line search on [0, 1]). Away steps (Guelat-Marcotte) along
+   * -e_j, j the active index with the largest g_j, let a component return
+   * exactly to zero, which the classical method can only approach; with
+   * them the method converges linearly and ends on the exact active set.
+   *
+   * Only the columns of S of rows that become active are formed, one
+   * elasticity solve each (cached); g is updated from them. The iteration
+   * stops when the KKT residual max(-min g, max_{y_j>0} |g_j|) is below
+   * "Tolerance" times the scale of d.
+   */
+  template <int dim>
+  class FrankWolfeSolver : public ContactSolver<dim>
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    std::string
+    name() const override;
+
+    typename ContactSolver<dim>::Report
+    solve(const DiscreteContactProblem<dim> &problem,
+          LA::Vector &                       u,
+          Vector<double> &                   y) override;
+
+    unsigned int max_iterations = 1000000;
+    double       tolerance      = 1e-12;
+    /// Stop with an error after this many columns of S (elasticity solves).
+    unsigned int max_columns = 100000;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,30 @@
+#ifndef signorini_contact_integral_condition_h
+#define signorini_contact_integral_condition_h
+
+#include <signorini/contact/condition.h>
+
+namespace Signorini
+{
+  /**
+   * The integral (global) condition [16], [19]-[21], [23]:
+   * int_GC mu_h (u_hn - g) dS >= 0 for all P1 mu_h <= 0, i.e. M q_N <= ghat on
+   * the rows of the multiplier nodes. The multiplier is Lambda = -y <= 0, so
+   * the sign condition holds exactly while small nodal penetrations remain
+   * possible (the method is non-conforming).
+   */
+  template <int dim>
+  class IntegralCondition : public ContactCondition<dim>
+  {
+  public:
+    std::string
+    name() const override;
+
+    void
+    reinit(const ContactBoundary<dim> &boundary) override;
+
+    Vector<double>
+    multiplier(const Vector<double> &y) const override;
+  };
+} // namespace Signorini
+
+#endif

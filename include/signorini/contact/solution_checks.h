@@ -1,0 +1,50 @@
+#ifndef signorini_contact_solution_checks_h
+#define signorini_contact_solution_checks_h
+
+#include <deal.II/base/point.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <signorini/contact/discrete_problem.h>
+
+#include <vector>
+
+namespace Signorini
+{
+  /**
+   * Independent checks of a computed contact solution (u, y), all relative:
+   * - feasibility: max (B u - b)_+ (pointwise: q_N <= G; integral:
+   *   M q_N <= ghat), over the scale of B u;
+   * - multiplier_sign: max (y)_- over max |y| (Gamma <= 0, or Lambda <= 0);
+   * - complementarity: max |y_i (b - B u)_i| over both scales;
+   * - residual: max over dofs free of Dirichlet data of |F + f_c - K u|, f_c
+   *   the contact forces -B^T y, over max |F + f_c|;
+   * - resultant: global equilibrium of applied load, contact forces and
+   *   Dirichlet reactions (taken as the residual at Dirichlet dofs): the
+   *   largest of the force components and of the moment (divided by the
+   *   diameter), over the sum of the magnitudes of all these nodal forces.
+   */
+  struct SolutionChecks
+  {
+    double feasibility     = 0.;
+    double multiplier_sign = 0.;
+    double complementarity = 0.;
+    double residual        = 0.;
+    double resultant       = 0.;
+  };
+
+  /**
+   * @p support_points and @p dof_component give the position and the
+   * component of every dof; @p dirichlet_constraints identify the supports.
+   */
+  template <int dim>
+  SolutionChecks
+  check_solution(const DiscreteContactProblem<dim> &problem,
+                 const LA::Vector &                 u,
+                 const Vector<double> &             y,
+                 const AffineConstraints<double> &  dirichlet_constraints,
+                 const std::vector<Point<dim>> &    support_points,
+                 const std::vector<unsigned int> &  dof_component);
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,49 @@
+#ifndef signorini_csv_table_h
+#define signorini_csv_table_h
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace Signorini
+{
+  /**
+   * A table with named columns written as comma separated values, one row
+   * per cycle. Columns appear in the order they are first set; the file is
+   * rewritten after each row so that a failure in a later cycle leaves the
+   * completed rows on disk.
+   */
+  class CsvTable
+  {
+  public:
+    void
+    add_value(const std::string &column, const std::string &value);
+
+    void
+    add_value(const std::string &column, const double value);
+
+    void
+    add_value(const std::string &column, const long long value);
+
+    void
+    add_value(const std::string &column, const unsigned int value);
+
+    /// Close the current row.
+    void
+    end_row();
+
+    void
+    write(const std::string &filename) const;
+
+    /// Value of @p column in the last completed row ("" if unset).
+    std::string
+    last(const std::string &column) const;
+
+  private:
+    std::vector<std::string>                        columns;
+    std::vector<std::map<std::string, std::string>> rows;
+    std::map<std::string, std::string>              current;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,90 @@
+#ifndef signorini_linear_solver_h
+#define signorini_linear_solver_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
+
+#include <signorini/linear_algebra.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * Solves linear elasticity problems K u = f under a set of affine
+   * constraints that changes from call to call (hanging nodes and Dirichlet
+   * data always, plus the active contact constraints of the current active
+   * set), without reassembling K.
+   *
+   * The system solved is deal.II's constrained form
+   *   (C^T K C + Id_c) u = C^T (f - K k) + Id_c k
+   * (see constrained_linear_operator()), by CG. The preconditioner is built
+   * once from the stiffness matrix condensed with the base constraints: a
+   * sparse direct factorisation on small meshes (then the base problem
+   * converges in one CG step and a changed active set in a few), Trilinos ML
+   * algebraic multigrid on large ones. Restricted to the dofs left free by
+   * the current constraints it stays symmetric positive definite.
+   */
+  class ElasticitySolver
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * @p stiffness is the unconstrained K (singular without its constraints),
+     * @p condensed_stiffness the same matrix condensed with the base
+     * constraints (hanging nodes, Dirichlet); @p constant_modes the
+     * translation modes per component, for AMG.
+     */
+    void
+    initialize(const LA::SparseMatrix &               stiffness,
+               const LA::SparseMatrix &               condensed_stiffness,
+               const std::vector<std::vector<bool>> &constant_modes);
+
+    /**
+     * Solve with the constraints @p constraints (closed), the unconstrained
+     * load @p load, starting from @p solution. Returns the CG iterations.
+     * A @p relative_tolerance of zero means the parameter's value.
+     */
+    unsigned int
+    solve(const AffineConstraints<double> &constraints,
+          const LA::Vector &               load,
+          LA::Vector &                     solution,
+          const double                     relative_tolerance = 0.) const;
+
+    /// "direct (Amesos_Klu)" or "AMG-CG": what initialize() chose.
+    std::string
+    method() const;
+
+    /// Relative residual reduction asked of CG.
+    double
+    tolerance() const;
+
+    /// Choose the method by this size unless forced.
+    std::string                type                 = "automatic";
+    std::string                direct_package       = "Amesos_Klu";
+    types::global_dof_index    direct_solver_limit  = 50000;
+    double                     relative_tolerance   = 1e-10;
+    unsigned int               max_iterations       = 5000;
+
+  private:
+    const LA::SparseMatrix *                            stiffness_matrix = nullptr;
+    bool                                                use_direct       = true;
+    mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
+    mutable SolverControl                               direct_control;
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
+  };
+} // namespace Signorini
+
+#endif

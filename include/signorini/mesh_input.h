@@ -1,0 +1,47 @@
+#ifndef signorini_mesh_input_h
+#define signorini_mesh_input_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <string>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * Where the initial triangle mesh comes from: the block of the paper
+   * (spec section 6.1) generated in place, or an ASCII Gmsh file whose
+   * physical curve tags become boundary ids.
+   *
+   * Boundary ids of the generated block (0,1)^2:
+   *   1 left edge x = 0, 2 bottom edge y = 0,
+   *   3 top edge for x < 1/2, 5 top edge for x > 1/2,
+   *   4 right edge for y > 1/2, 6 right edge for y < 1/2.
+   */
+  template <int dim>
+  class MeshInput
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// Fill the (empty) @p triangulation with the initial mesh, refined
+    /// "Initial refinements" times. Throws InputError for unreadable files.
+    void
+    create(Triangulation<dim> &triangulation) const;
+
+    std::string               source = "block";
+    std::string               file_name;
+    std::vector<unsigned int> block_subdivisions = {4, 3};
+    unsigned int              initial_refinements = 0;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,149 @@
+#ifndef signorini_signorini_problem_h
+#define signorini_signorini_problem_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/parsed_function.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/vector.h>
+
+#include <signorini/boundary_conditions.h>
+#include <signorini/contact/condition.h>
+#include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/solution_checks.h>
+#include <signorini/contact/solver.h>
+#include <signorini/csv_table.h>
+#include <signorini/linear_algebra.h>
+#include <signorini/linear_solver.h>
+#include <signorini/material.h>
+#include <signorini/mesh_input.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The application: the Signorini problem of spec sections 1-2 on a
+   * sequence of uniformly refined meshes ("cycles"), in the style of deal.II
+   * step-41/42: make_grid(), setup_system(), assemble_system(),
+   * solve_contact(), output_results(), driven by run(). Every constant comes
+   * from the parameter file; the parts of the method (mesh input, material,
+   * boundary data, contact boundary, contact condition, contact solver,
+   * linear solver) declare and parse their own parameters.
+   */
+  template <int dim>
+  class SignoriniProblem
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Parse every part; throws InputError for inconsistent input.
+    explicit SignoriniProblem(ParameterHandler &prm);
+
+    /// Build the initial mesh and the discrete spaces, checking that every
+    /// boundary id named in the input exists, without solving.
+    void
+    validate();
+
+    void
+    run();
+
+    /// Results of the last cycle, for tests and benchmarks.
+    const CsvTable &
+    statistics() const;
+
+    const LA::Vector &
+    displacement() const;
+
+    /// y of the last solve (see ContactCondition)
+    const Vector<double> &
+    dual() const;
+
+    const DoFHandler<dim> &
+    get_dof_handler() const;
+
+  private:
+    void
+    make_grid();
+
+    void
+    setup_system();
+
+    void
+    assemble_system();
+
+    void
+    solve_contact(const unsigned int cycle);
+
+    void
+    compute_exact_error();
+
+    void
+    output_results(const unsigned int cycle);
+
+    void
+    write_contact_table(const unsigned int cycle) const;
+
+    // Input
+    ParameterHandler &              prm;
+    std::string                     output_directory;
+    unsigned int                    n_cycles;
+    bool                            write_vtu;
+    bool                            print_timing;
+    MeshInput<dim>                  mesh_input;
+    LinearElasticMaterial<dim>      material;
+    BoundaryConditions<dim>         boundary_conditions;
+    std::unique_ptr<Functions::ParsedFunction<dim>> exact_solution;
+
+    // Discretisation
+    Triangulation<dim> triangulation;
+    const FESystem<dim> fe;
+    const MappingFE<dim> mapping;
+    DoFHandler<dim>    dof_handler;
+    const FE_SimplexP<dim> scalar_fe;
+    DoFHandler<dim>    scalar_dof_handler; // contact fields in the output
+
+    // Constraints: hanging nodes, Dirichlet data, and both merged (with and
+    // without the Dirichlet values)
+    AffineConstraints<double> hanging_node_constraints;
+    AffineConstraints<double> dirichlet_constraints;
+    AffineConstraints<double> constraints;
+    AffineConstraints<double> homogeneous_constraints;
+
+    // Contact
+    ContactBoundary<dim>                    contact_boundary;
+    std::unique_ptr<ContactCondition<dim>>  contact_condition;
+    std::unique_ptr<ContactSolver<dim>>     contact_solver;
+
+    // Linear algebra
+    LA::SparseMatrix stiffness;
+    LA::SparseMatrix condensed_stiffness;
+    LA::Vector       load;
+    LA::Vector       solution;
+    Vector<double>   dual_solution;
+    bool             last_solve_converged = true;
+    ElasticitySolver linear_solver;
+
+    // Output
+    TimerOutput                               timer;
+    CsvTable                                  statistics_table;
+    std::vector<std::pair<double, std::string>> vtu_files;
+  };
+} // namespace Signorini
+
+#endif

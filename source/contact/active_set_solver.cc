@@ -1,0 +1,124 @@
+#include <signorini/contact/active_set_solver.h>
+
+#include <set>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  ActiveSetSolver<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    prm.enter_subsection("Active set");
+    prm.declare_entry("Maximum iterations", "100", Patterns::Integer(1),
+                      "Limit on the number of active-set updates.");
+    prm.declare_entry("Inexact tolerance", "1e-6", Patterns::Double(0., 1.),
+                      "Relative CG tolerance of the solves while the active "
+                      "set still changes (the final solve uses Linear "
+                      "solver/Relative tolerance).");
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  ActiveSetSolver<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    prm.enter_subsection("Active set");
+    max_iterations    = prm.get_integer("Maximum iterations");
+    inexact_tolerance = prm.get_double("Inexact tolerance");
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  std::string
+  ActiveSetSolver<dim>::name() const
+  {
+    return "active set";
+  }
+
+
+
+  template <int dim>
+  typename ContactSolver<dim>::Report
+  ActiveSetSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
+                              LA::Vector &                       u,
+                              Vector<double> &                   y)
+  {
+    typename ContactSolver<dim>::Report report;
+    const unsigned int                  m = problem.n_constraints();
+    std::vector<bool>                   active(m, false);
+    std::set<std::vector<bool>>         visited{active};
+    bool                                exact = (inexact_tolerance == 0.);
+
+    // The first step (empty active set) is the unconstrained problem.
+    while (true)
+      {
+        report.linear_iterations +=
+          problem.solve_with_active_set(active, u, exact ? 0. : inexact_tolerance);
+        ++report.linear_solves;
+        ++report.iterations;
+        y = problem.dual_from_residual(active, u);
+        if (m == 0)
+          {
+            report.converged = true;
+            break;
+          }
+
+        // Thresholds against round-off and the CG tolerance on nodes that
+        // are in contact with a zero force (the contact/separation point).
+        const Vector<double> slack = problem.slack(u);
+        const double tol_slack = 1e-9 * problem.constraint_scale(u);
+        const double tol_y     = 1e-9 * y.linfty_norm();
+        std::vector<bool> next(m);
+        for (unsigned int i = 0; i < m; ++i)
+          next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
+
+        if (next == active)
+          {
+            if (exact)
+              {
+                report.converged = true;
+                break;
+              }
+            exact = true; // confirm the active set with a full-accuracy solve
+            continue;
+          }
+        if (!visited.insert(next).second)
+          {
+            if (!exact)
+              exact = true; // inexact solves may cycle: go exact
+            else
+              throw std::runtime_error(
+                "the active set method cycles (an active set repeated after " +
+                std::to_string(report.iterations) +
+                " iterations); use Contact/Solver = Frank-Wolfe");
+          }
+        if (report.iterations >= max_iterations)
+          throw std::runtime_error(
+            "the active set method did not converge in Contact/Active set/"
+            "Maximum iterations = " + std::to_string(max_iterations));
+        active = next;
+      }
+
+    // Report the relative KKT residual of the final iterate.
+    const Vector<double> slack = problem.slack(u);
+    const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
+    const double         scale_dual   = std::max(y.linfty_norm(), 1e-300);
+    for (unsigned int i = 0; i < m; ++i)
+      report.residual = std::max({report.residual,
+                                  -slack[i] / scale_primal,
+                                  -y[i] / scale_dual,
+                                  std::abs(y[i] * slack[i]) /
+                                    (scale_dual * scale_primal)});
+    return report;
+  }
+
+  template class ActiveSetSolver<2>;
+} // namespace Signorini

@@ -1,0 +1,361 @@
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
+#include <signorini/boundary_conditions.h>
+#include <signorini/contact/contact_boundary.h>
+#include <signorini/input_error.h>
+
+#include <map>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  ContactBoundary<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    {
+      prm.declare_entry("Boundary ids", "", Patterns::List(Patterns::Integer(0)),
+                        "Boundary ids forming the candidate contact part GC "
+                        "(empty: pure elasticity).");
+      prm.declare_entry("Direction", "outward normal", Patterns::Anything(),
+                        "Unit vector nu_c from the body into the foundation, "
+                        "as 'x, y' (normalised on input), or 'outward "
+                        "normal' for a flat GC.");
+      prm.enter_subsection("Gap");
+      Functions::ParsedFunction<dim>::declare_parameters(prm, 1);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  ContactBoundary<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    {
+      ids = parse_boundary_ids(prm.get("Boundary ids"), "Contact/Boundary ids");
+      direction_text = prm.get("Direction");
+      if (direction_text != "outward normal")
+        {
+          const auto entries = Utilities::split_string_list(direction_text);
+          if (entries.size() != dim)
+            throw InputError("Contact/Direction = <" + direction_text +
+                             ">: expected 'outward normal' or " +
+                             std::to_string(dim) + " numbers");
+          try
+            {
+              for (unsigned int d = 0; d < dim; ++d)
+                contact_direction[d] = Utilities::string_to_double(entries[d]);
+            }
+          catch (...)
+            {
+              throw InputError("Contact/Direction = <" + direction_text +
+                               ">: not a vector of numbers");
+            }
+          if (contact_direction.norm() == 0.)
+            throw InputError("Contact/Direction must not be the zero vector");
+          contact_direction /= contact_direction.norm();
+        }
+      prm.enter_subsection("Gap");
+      gap_function = parse_function<dim>(prm, 1, "Contact/Gap");
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  ContactBoundary<dim>::reinit(
+    const Mapping<dim> &             mapping,
+    const DoFHandler<dim> &          dof_handler,
+    const AffineConstraints<double> &dirichlet_constraints,
+    const AffineConstraints<double> &hanging_node_constraints)
+  {
+    nodes.clear();
+    multiplier_node_indices.clear();
+    contact_cell_count = 0;
+    if (ids.empty())
+      {
+        mass.clear();
+        gap_at_nodes.reinit(0);
+        weighted_gap_at_nodes.reinit(0);
+        return;
+      }
+
+    const auto &fe = dof_handler.get_fe();
+    const QGaussSimplex<dim - 1> face_quadrature(3);
+    FEFaceValues<dim>            fe_face_values(mapping, fe, face_quadrature,
+                                     update_values | update_quadrature_points |
+                                       update_normal_vectors |
+                                       update_JxW_values);
+
+    // 1. Nodes, numbered in the order met; faces remembered for step 2.
+    std::map<unsigned int, unsigned int> node_of_vertex;
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    const bool use_outward_normal = (direction_text == "outward normal");
+    Tensor<1, dim> first_normal;
+    bool           have_normal = false;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        bool cell_touches = false;
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() &&
+              ids.count(cell->face(f)->boundary_id()) != 0)
+            {
+              cell_touches = true;
+              cell->get_dof_indices(dofs);
+              fe_face_values.reinit(cell, f);
+              const Tensor<1, dim> normal = fe_face_values.normal_vector(0);
+              if (!have_normal)
+                {
+                  first_normal = normal;
+                  have_normal  = true;
+                }
+              else if (use_outward_normal && (normal - first_normal).norm() > 1e-8)
+                throw InputError(
+                  "Contact/Direction = outward normal needs a flat contact "
+                  "boundary; GC is curved, give the direction as a vector");
+              for (const unsigned int v : cell->face(f)->vertex_indices())
+                {
+                  const unsigned int vertex = cell->face(f)->vertex_index(v);
+                  if (node_of_vertex.count(vertex) != 0)
+                    continue;
+                  Node node;
+                  node.position = cell->face(f)->vertex(v);
+                  node.vertex   = vertex;
+                  // the cell-local vertex number of this face vertex
+                  unsigned int cell_vertex = numbers::invalid_unsigned_int;
+                  for (const unsigned int w : cell->vertex_indices())
+                    if (cell->vertex_index(w) == vertex)
+                      cell_vertex = w;
+                  for (unsigned int c = 0; c < dim; ++c)
+                    node.dofs[c] = dofs[fe.component_to_system_index(c, cell_vertex)];
+                  node_of_vertex[vertex] = nodes.size();
+                  nodes.push_back(node);
+                }
+            }
+        contact_cell_count += cell_touches ? 1 : 0;
+      }
+    if (nodes.empty())
+      return;
+    if (use_outward_normal)
+      contact_direction = first_normal;
+
+    // 2. Which nodes carry a multiplier.
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        Node &node          = nodes[k];
+        node.has_multiplier = true;
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            if (hanging_node_constraints.is_constrained(node.dofs[c]))
+              throw std::runtime_error(
+                "a hanging node lies on the contact boundary at " +
+                Utilities::to_string(node.position[0]) + ", " +
+                Utilities::to_string(node.position[1]) +
+                "; meshes must be conforming on GC");
+            if (std::abs(contact_direction[c]) > 1e-12 &&
+                dirichlet_constraints.is_constrained(node.dofs[c]))
+              node.has_multiplier = false;
+          }
+        if (node.has_multiplier)
+          multiplier_node_indices.push_back(k);
+      }
+
+    // 3. M and ghat by face quadrature (P1 traces are the component-0 shape
+    // functions of the vector element), G by nodal evaluation.
+    DynamicSparsityPattern dsp(nodes.size(), nodes.size());
+    std::vector<std::pair<typename DoFHandler<dim>::active_cell_iterator, unsigned int>>
+      faces;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            ids.count(cell->face(f)->boundary_id()) != 0)
+          {
+            faces.emplace_back(cell, f);
+            for (const unsigned int v : cell->face(f)->vertex_indices())
+              for (const unsigned int w : cell->face(f)->vertex_indices())
+                dsp.add(node_of_vertex[cell->face(f)->vertex_index(v)],
+                        node_of_vertex[cell->face(f)->vertex_index(w)]);
+          }
+    mass_sparsity.copy_from(dsp);
+    mass.reinit(mass_sparsity);
+    weighted_gap_at_nodes.reinit(nodes.size());
+    gap_at_nodes.reinit(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      gap_at_nodes[k] = gap_function->value(nodes[k].position);
+
+    for (const auto &[cell, f] : faces)
+      {
+        fe_face_values.reinit(cell, f);
+        // local scalar basis: component-0 dofs of the face's vertices
+        std::vector<std::pair<unsigned int, unsigned int>> local_to_node;
+        for (const unsigned int w : cell->vertex_indices())
+          {
+            const auto it = node_of_vertex.find(cell->vertex_index(w));
+            bool on_face = false;
+            for (const unsigned int v : cell->face(f)->vertex_indices())
+              on_face |= (cell->face(f)->vertex_index(v) == cell->vertex_index(w));
+            if (on_face)
+              local_to_node.emplace_back(fe.component_to_system_index(0, w),
+                                         it->second);
+          }
+        for (const unsigned int q : fe_face_values.quadrature_point_indices())
+          {
+            const double gap =
+              gap_function->value(fe_face_values.quadrature_point(q));
+            const double JxW = fe_face_values.JxW(q);
+            for (const auto &[i, node_i] : local_to_node)
+              {
+                const double psi_i = fe_face_values.shape_value_component(i, q, 0);
+                weighted_gap_at_nodes[node_i] += gap * psi_i * JxW;
+                for (const auto &[j, node_j] : local_to_node)
+                  mass.add(node_i, node_j,
+                           psi_i * fe_face_values.shape_value_component(j, q, 0) *
+                             JxW);
+              }
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  ContactBoundary<dim>::empty() const
+  {
+    return multiplier_node_indices.empty();
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ContactBoundary<dim>::n_nodes() const
+  {
+    return nodes.size();
+  }
+
+
+
+  template <int dim>
+  const typename ContactBoundary<dim>::Node &
+  ContactBoundary<dim>::node(const unsigned int k) const
+  {
+    return nodes[k];
+  }
+
+
+
+  template <int dim>
+  const std::vector<unsigned int> &
+  ContactBoundary<dim>::multiplier_nodes() const
+  {
+    return multiplier_node_indices;
+  }
+
+
+
+  template <int dim>
+  const Tensor<1, dim> &
+  ContactBoundary<dim>::direction() const
+  {
+    return contact_direction;
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ContactBoundary<dim>::constrained_component() const
+  {
+    unsigned int c_max = 0;
+    for (unsigned int c = 1; c < dim; ++c)
+      if (std::abs(contact_direction[c]) > std::abs(contact_direction[c_max]))
+        c_max = c;
+    return c_max;
+  }
+
+
+
+  template <int dim>
+  const SparseMatrix<double> &
+  ContactBoundary<dim>::mass_matrix() const
+  {
+    return mass;
+  }
+
+
+
+  template <int dim>
+  const Vector<double> &
+  ContactBoundary<dim>::nodal_gap() const
+  {
+    return gap_at_nodes;
+  }
+
+
+
+  template <int dim>
+  const Vector<double> &
+  ContactBoundary<dim>::weighted_gap() const
+  {
+    return weighted_gap_at_nodes;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  ContactBoundary<dim>::normal_displacements(const LA::Vector &u) const
+  {
+    Vector<double> q_n(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        q_n[k] += contact_direction[c] * u[nodes[k].dofs[c]];
+    return q_n;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactBoundary<dim>::add_normal_forces(const Vector<double> &forces,
+                                          LA::Vector &          v) const
+  {
+    AssertDimension(forces.size(), nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        if (contact_direction[c] != 0.)
+          v[nodes[k].dofs[c]] += forces[k] * contact_direction[c];
+  }
+
+
+
+  template <int dim>
+  const std::set<types::boundary_id> &
+  ContactBoundary<dim>::boundary_ids() const
+  {
+    return ids;
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ContactBoundary<dim>::n_contact_cells() const
+  {
+    return contact_cell_count;
+  }
+
+  template class ContactBoundary<2>;
+} // namespace Signorini

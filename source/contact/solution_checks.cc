@@ -1,0 +1,86 @@
+#include <signorini/contact/solution_checks.h>
+
+namespace Signorini
+{
+  template <int dim>
+  SolutionChecks
+  check_solution(const DiscreteContactProblem<dim> &problem,
+                 const LA::Vector &                 u,
+                 const Vector<double> &             y,
+                 const AffineConstraints<double> &  dirichlet_constraints,
+                 const std::vector<Point<dim>> &    support_points,
+                 const std::vector<unsigned int> &  dof_component)
+  {
+    static_assert(dim == 2, "the moment balance is written for 2D");
+    SolutionChecks checks;
+
+    // complementarity conditions
+    const Vector<double> slack        = problem.slack(u);
+    const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
+    const double         scale_dual   = std::max(y.linfty_norm(), 1e-300);
+    for (unsigned int i = 0; i < y.size(); ++i)
+      {
+        checks.feasibility = std::max(checks.feasibility, -slack[i] / scale_primal);
+        checks.multiplier_sign = std::max(checks.multiplier_sign, -y[i] / scale_dual);
+        checks.complementarity =
+          std::max(checks.complementarity,
+                   std::abs(y[i] * slack[i]) / (scale_primal * scale_dual));
+      }
+
+    // contact forces f_c = -B^T y as a dof vector
+    LA::Vector contact_forces(problem.load());
+    contact_forces = 0.;
+    if (y.size() > 0)
+      problem.boundary().add_normal_forces(problem.condition().nodal_forces(y),
+                                           contact_forces);
+    contact_forces.compress(VectorOperation::add);
+
+    // r = F - K u (hanging rows condensed); the unbalanced force at a dof
+    // free of Dirichlet data is r + f_c, at a Dirichlet dof -(r + f_c) is
+    // the reaction.
+    LA::Vector imbalance = problem.residual(u);
+    imbalance += contact_forces;
+    LA::Vector applied(problem.load());
+    applied += contact_forces;
+    double applied_scale = 0., load_sum = 0.; // load_sum: sum of |forces|
+    const AffineConstraints<double> &all = problem.constraints();
+    for (const auto i : u.locally_owned_elements())
+      if (!all.is_constrained(i))
+        applied_scale = std::max(applied_scale, std::abs(applied[i]));
+    Tensor<1, dim> force;
+    double         moment = 0.;
+    Point<dim>     lower = support_points[0], upper = support_points[0];
+    for (const auto i : u.locally_owned_elements())
+      {
+        const Point<dim> &x = support_points[i];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            lower[d] = std::min(lower[d], x[d]);
+            upper[d] = std::max(upper[d], x[d]);
+          }
+        double f = applied[i];
+        if (dirichlet_constraints.is_constrained(i))
+          f -= imbalance[i]; // add the reaction
+        else if (!all.is_constrained(i))
+          checks.residual = std::max(checks.residual, std::abs(imbalance[i]));
+        load_sum += std::abs(f);
+        const unsigned int c = dof_component[i];
+        force[c] += f;
+        moment += (c == 0 ? -x[1] * f : x[0] * f);
+      }
+    checks.residual /= std::max(applied_scale, 1e-300);
+    const double diameter = (upper - lower).norm();
+    checks.resultant =
+      std::max({std::abs(force[0]), std::abs(force[1]), std::abs(moment) / diameter}) /
+      std::max(load_sum, 1e-300);
+    return checks;
+  }
+
+  template SolutionChecks
+  check_solution<2>(const DiscreteContactProblem<2> &,
+                    const LA::Vector &,
+                    const Vector<double> &,
+                    const AffineConstraints<double> &,
+                    const std::vector<Point<2>> &,
+                    const std::vector<unsigned int> &);
+} // namespace Signorini

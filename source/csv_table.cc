@@ -1,0 +1,85 @@
+#include <deal.II/base/exceptions.h>
+
+#include <signorini/csv_table.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+namespace Signorini
+{
+  void
+  CsvTable::add_value(const std::string &column, const std::string &value)
+  {
+    if (std::find(columns.begin(), columns.end(), column) == columns.end())
+      columns.push_back(column);
+    current[column] = value;
+  }
+
+
+
+  void
+  CsvTable::add_value(const std::string &column, const double value)
+  {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.10g", value);
+    add_value(column, std::string(text));
+  }
+
+
+
+  void
+  CsvTable::add_value(const std::string &column, const long long value)
+  {
+    add_value(column, std::to_string(value));
+  }
+
+
+
+  void
+  CsvTable::add_value(const std::string &column, const unsigned int value)
+  {
+    add_value(column, std::to_string(value));
+  }
+
+
+
+  void
+  CsvTable::end_row()
+  {
+    rows.push_back(current);
+    current.clear();
+  }
+
+
+
+  void
+  CsvTable::write(const std::string &filename) const
+  {
+    std::ofstream out(filename);
+    AssertThrow(out, dealii::ExcIO());
+    for (unsigned int c = 0; c < columns.size(); ++c)
+      out << (c ? "," : "") << columns[c];
+    out << '\n';
+    for (const auto &row : rows)
+      {
+        for (unsigned int c = 0; c < columns.size(); ++c)
+          {
+            const auto it = row.find(columns[c]);
+            out << (c ? "," : "") << (it != row.end() ? it->second : "");
+          }
+        out << '\n';
+      }
+  }
+
+
+
+  std::string
+  CsvTable::last(const std::string &column) const
+  {
+    if (rows.empty())
+      return "";
+    const auto it = rows.back().find(column);
+    return it == rows.back().end() ? "" : it->second;
+  }
+} // namespace Signorini

@@ -1,0 +1,255 @@
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+
+#include <signorini/input_error.h>
+#include <signorini/linear_solver.h>
+
+namespace Signorini
+{
+  namespace
+  {
+    using Lines = AffineConstraints<double>::LineRange;
+
+    /// C^T K C + Id_c: K acting on the dofs the constraints leave free.
+    class ConstrainedOperator
+    {
+    public:
+      ConstrainedOperator(const LA::SparseMatrix &matrix, const Lines lines)
+        : matrix(matrix)
+        , lines(lines)
+      {}
+
+      void
+      vmult(LA::Vector &dst, const LA::Vector &src) const
+      {
+        distributed.reinit(src, /*omit_zeroing_entries=*/true);
+        distributed = src;
+        for (const auto &line : lines)
+          {
+            double value = 0.;
+            for (const auto &[j, w] : line.entries)
+              value += w * src[j];
+            distributed[line.index] = value;
+          }
+        distributed.compress(VectorOperation::insert);
+        matrix.vmult(dst, distributed);
+        for (const auto &line : lines)
+          for (const auto &[j, w] : line.entries)
+            dst[j] += w * dst[line.index];
+        dst.compress(VectorOperation::add);
+        for (const auto &line : lines)
+          dst[line.index] = src[line.index];
+        dst.compress(VectorOperation::insert);
+      }
+
+    private:
+      const LA::SparseMatrix &matrix;
+      const Lines             lines;
+      mutable LA::Vector      distributed;
+    };
+
+
+
+    /// Id_c + (P^{-1} restricted to the free dofs), P the base-condensed K.
+    template <typename Inner>
+    class ConstrainedPreconditioner
+    {
+    public:
+      ConstrainedPreconditioner(const Inner &inner, const Lines lines)
+        : inner(inner)
+        , lines(lines)
+      {}
+
+      void
+      vmult(LA::Vector &dst, const LA::Vector &src) const
+      {
+        restricted.reinit(src, true);
+        restricted = src;
+        for (const auto &line : lines)
+          restricted[line.index] = 0.;
+        restricted.compress(VectorOperation::insert);
+        inner(dst, restricted);
+        for (const auto &line : lines)
+          dst[line.index] = src[line.index];
+        dst.compress(VectorOperation::insert);
+      }
+
+    private:
+      const Inner &      inner;
+      const Lines        lines;
+      mutable LA::Vector restricted;
+    };
+  } // namespace
+
+
+
+  void
+  ElasticitySolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    {
+      prm.declare_entry("Type", "automatic",
+                        Patterns::Selection("automatic|direct|AMG-CG"),
+                        "Preconditioner of the CG solves: sparse direct "
+                        "factorisation, Trilinos ML AMG, or chosen by the "
+                        "number of DoFs ('Direct solver limit').");
+      prm.declare_entry("Direct solver limit", "50000", Patterns::Integer(0),
+                        "With Type = automatic: largest number of DoFs for "
+                        "which the direct factorisation is used.");
+      prm.declare_entry("Direct solver package", "Amesos_Klu",
+                        Patterns::Selection("Amesos_Klu|Amesos_Umfpack|Amesos_Mumps|Amesos_Lapack"),
+                        "Trilinos Amesos package of the direct factorisation.");
+      prm.declare_entry("Relative tolerance", "1e-10", Patterns::Double(1e-16, 1e-2),
+                        "CG stops when the residual is below this fraction of "
+                        "the right-hand side.");
+      prm.declare_entry("Maximum iterations", "5000", Patterns::Integer(1),
+                        "CG iteration limit per solve.");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ElasticitySolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    {
+      type                = prm.get("Type");
+      direct_solver_limit = prm.get_integer("Direct solver limit");
+      direct_package      = prm.get("Direct solver package");
+      relative_tolerance  = prm.get_double("Relative tolerance");
+      max_iterations      = prm.get_integer("Maximum iterations");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ElasticitySolver::initialize(
+    const LA::SparseMatrix &               stiffness,
+    const LA::SparseMatrix &               condensed_stiffness,
+    const std::vector<std::vector<bool>> &constant_modes)
+  {
+    stiffness_matrix = &stiffness;
+    use_direct =
+      (type == "direct") ||
+      (type == "automatic" && stiffness.m() <= direct_solver_limit);
+    direct.reset();
+    amg.reset();
+    if (use_direct)
+      {
+        direct = std::make_unique<TrilinosWrappers::SolverDirect>(
+          direct_control,
+          TrilinosWrappers::SolverDirect::AdditionalData(false, direct_package));
+        try
+          {
+            direct->initialize(condensed_stiffness);
+          }
+        catch (const ExceptionBase &exc)
+          {
+            std::ostringstream text;
+            exc.print_info(text);
+            throw InputError("Linear solver/Direct solver package = " +
+                             direct_package + ": " +
+                             one_line_message(text.str()));
+          }
+      }
+    else
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic              = true;
+        data.higher_order_elements = false;
+        data.smoother_sweeps       = 2;
+        data.aggregation_threshold = 0.02;
+        data.constant_modes        = constant_modes;
+        amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+        amg->initialize(condensed_stiffness, data);
+      }
+  }
+
+
+
+  unsigned int
+  ElasticitySolver::solve(const AffineConstraints<double> &constraints,
+                          const LA::Vector &               load,
+                          LA::Vector &                     solution,
+                          const double                     tolerance_) const
+  {
+    Assert(stiffness_matrix != nullptr, ExcNotInitialized());
+    const auto lines = constraints.get_lines();
+
+    // right-hand side C^T (f - K k) + Id_c k
+    LA::Vector inhomogeneity(load);
+    inhomogeneity = 0.;
+    for (const auto &line : lines)
+      inhomogeneity[line.index] = line.inhomogeneity;
+    inhomogeneity.compress(VectorOperation::insert);
+    LA::Vector rhs(load);
+    stiffness_matrix->vmult(rhs, inhomogeneity);
+    rhs.sadd(-1., 1., load);
+    for (const auto &line : lines)
+      for (const auto &[j, w] : line.entries)
+        rhs[j] += w * rhs[line.index];
+    rhs.compress(VectorOperation::add);
+    for (const auto &line : lines)
+      rhs[line.index] = line.inhomogeneity;
+    rhs.compress(VectorOperation::insert);
+
+    for (const auto &line : lines)
+      solution[line.index] = line.inhomogeneity;
+    solution.compress(VectorOperation::insert);
+
+    const ConstrainedOperator op(*stiffness_matrix, lines);
+    const double tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
+    SolverControl control(max_iterations, tol * rhs.l2_norm(), false, false);
+    SolverCG<LA::Vector> cg(control);
+    try
+      {
+        if (use_direct)
+          {
+            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
+              direct->solve(dst, src);
+            };
+            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
+              inner, lines);
+            cg.solve(op, solution, rhs, preconditioner);
+          }
+        else
+          {
+            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
+              amg->vmult(dst, src);
+            };
+            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
+              inner, lines);
+            cg.solve(op, solution, rhs, preconditioner);
+          }
+      }
+    catch (const SolverControl::NoConvergence &exc)
+      {
+        throw std::runtime_error(
+          "the linear elasticity solve did not converge in " +
+          std::to_string(exc.last_step) + " CG iterations (residual " +
+          Utilities::to_string(exc.last_residual) + ")");
+      }
+    constraints.distribute(solution);
+    return control.last_step();
+  }
+
+
+
+  std::string
+  ElasticitySolver::method() const
+  {
+    return use_direct ? "direct (" + direct_package + ")" : "AMG-CG";
+  }
+
+
+
+  double
+  ElasticitySolver::tolerance() const
+  {
+    return relative_tolerance;
+  }
+} // namespace Signorini

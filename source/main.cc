@@ -1,0 +1,88 @@
+// The signorini executable: reads a parameter file and runs the problem.
+// Bad input ends with a one-line message naming the culprit and exit code 1;
+// a failure of the computation with exit code 2.
+
+#include <deal.II/base/mpi.h>
+
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
+
+#include <iostream>
+#include <string>
+
+namespace
+{
+  void
+  print_usage(std::ostream &out)
+  {
+    out << "Usage: signorini FILE.prm          run the computation\n"
+           "       signorini --validate FILE.prm  check the input and exit\n"
+           "       signorini --print-parameters   print the documented "
+           "default parameter file\n"
+           "       signorini --help\n";
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  using namespace Signorini;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  try
+    {
+      Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
+      ParameterHandler prm;
+      SignoriniProblem<2>::declare_parameters(prm);
+
+      if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h"))
+        {
+          print_usage(std::cout);
+          return 0;
+        }
+      if (args.size() == 1 && args[0] == "--print-parameters")
+        {
+          prm.print_parameters(std::cout, ParameterHandler::PRM);
+          return 0;
+        }
+      const bool validate_only = (args.size() == 2 && args[0] == "--validate");
+      if (!(validate_only || (args.size() == 1 && args[0][0] != '-')))
+        {
+          print_usage(std::cerr);
+          return 1;
+        }
+      const std::string filename = args.back();
+
+      parse_parameter_file(prm, filename);
+      SignoriniProblem<2> problem(prm);
+      if (validate_only)
+        {
+          problem.validate();
+          std::cout << filename << ": valid" << std::endl;
+          return 0;
+        }
+      problem.run();
+    }
+  catch (const InputError &exc)
+    {
+      std::cerr << "signorini: error: " << exc.what() << std::endl;
+      return 1;
+    }
+  catch (const ExceptionBase &exc)
+    {
+      std::ostringstream text;
+      exc.print_info(text);
+      std::cerr << "signorini: error: " << one_line_message(text.str())
+                << std::endl;
+      return 2;
+    }
+  catch (const std::exception &exc)
+    {
+      std::cerr << "signorini: error: " << one_line_message(exc.what())
+                << std::endl;
+      return 2;
+    }
+  return 0;
+}

@@ -1,0 +1,578 @@
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
+#include <signorini/stress_postprocessor.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  SignoriniProblem<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Output directory", "output", Patterns::DirectoryName(),
+                      "Where the VTU/PVD files, the CSV tables and the "
+                      "parameters used are written (created if needed).");
+    prm.declare_entry("Number of cycles", "1", Patterns::Integer(1, 12),
+                      "Computations on successively uniformly refined meshes.");
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Write vtu", "true", Patterns::Bool(),
+                        "Write solution-CC.vtu and solution.pvd for ParaView.");
+      prm.declare_entry("Print timing", "true", Patterns::Bool(),
+                        "Print the TimerOutput summary and the solve time on "
+                        "screen (off in regression tests: times vary).");
+    }
+    prm.leave_subsection();
+    prm.enter_subsection("Exact solution");
+    {
+      prm.declare_entry("Enable", "false", Patterns::Bool(),
+                        "Compare with a known displacement (manufactured "
+                        "solution): adds energy_error to the statistics.");
+      Functions::ParsedFunction<dim>::declare_parameters(prm, dim);
+    }
+    prm.leave_subsection();
+
+    MeshInput<dim>::declare_parameters(prm);
+    LinearElasticMaterial<dim>::declare_parameters(prm);
+    BoundaryConditions<dim>::declare_parameters(prm);
+    ContactBoundary<dim>::declare_parameters(prm);
+    declare_contact_condition_parameters<dim>(prm);
+    declare_contact_solver_parameters<dim>(prm);
+    ElasticitySolver::declare_parameters(prm);
+  }
+
+
+
+  template <int dim>
+  SignoriniProblem<dim>::SignoriniProblem(ParameterHandler &prm)
+    : prm(prm)
+    , fe(FE_SimplexP<dim>(1), dim)
+    , mapping(FE_SimplexP<dim>(1))
+    , scalar_fe(1)
+    , timer(std::cout, TimerOutput::never, TimerOutput::wall_times)
+  {
+    output_directory = prm.get("Output directory");
+    n_cycles         = prm.get_integer("Number of cycles");
+    prm.enter_subsection("Output");
+    write_vtu    = prm.get_bool("Write vtu");
+    print_timing = prm.get_bool("Print timing");
+    prm.leave_subsection();
+    prm.enter_subsection("Exact solution");
+    if (prm.get_bool("Enable"))
+      exact_solution = parse_function<dim>(prm, dim, "Exact solution");
+    prm.leave_subsection();
+
+    mesh_input.parse_parameters(prm);
+    material.parse_parameters(prm);
+    boundary_conditions.parse_parameters(prm);
+    contact_boundary.parse_parameters(prm);
+    contact_condition = create_contact_condition<dim>(prm);
+    contact_solver    = create_contact_solver<dim>(prm);
+    linear_solver.parse_parameters(prm);
+
+    for (const auto id : boundary_conditions.used_boundary_ids())
+      if (contact_boundary.boundary_ids().count(id) != 0)
+        throw InputError("boundary id " + std::to_string(id) +
+                         " is both a contact id and a Dirichlet/traction id");
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::make_grid()
+  {
+    TimerOutput::Scope t(timer, "make grid");
+    triangulation.clear();
+    mesh_input.create(triangulation);
+
+    std::set<types::boundary_id> present;
+    for (const auto &face : triangulation.active_face_iterators())
+      if (face->at_boundary())
+        present.insert(face->boundary_id());
+    const auto check = [&](const std::set<types::boundary_id> &ids,
+                           const std::string &                 where) {
+      for (const auto id : ids)
+        if (present.count(id) == 0)
+          throw InputError(where + ": boundary id " + std::to_string(id) +
+                           " does not exist in the mesh");
+    };
+    for (unsigned int p = 0; p < boundary_conditions.dirichlet.size(); ++p)
+      check(boundary_conditions.dirichlet[p].ids, "Boundary conditions/Dirichlet");
+    for (unsigned int p = 0; p < boundary_conditions.tractions.size(); ++p)
+      check(boundary_conditions.tractions[p].ids, "Boundary conditions/Traction");
+    check(contact_boundary.boundary_ids(), "Contact/Boundary ids");
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::setup_system()
+  {
+    TimerOutput::Scope t(timer, "setup");
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+    scalar_dof_handler.reinit(triangulation);
+    scalar_dof_handler.distribute_dofs(scalar_fe);
+
+    hanging_node_constraints.clear();
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    hanging_node_constraints.close();
+
+    dirichlet_constraints.clear();
+    AffineConstraints<double> homogeneous_dirichlet;
+    for (const auto &part : boundary_conditions.dirichlet)
+      for (const auto id : part.ids)
+        {
+          VectorTools::interpolate_boundary_values(mapping, dof_handler, id,
+                                                   *part.displacement,
+                                                   dirichlet_constraints,
+                                                   part.mask);
+          VectorTools::interpolate_boundary_values(mapping, dof_handler, id,
+                                                   Functions::ZeroFunction<dim>(dim),
+                                                   homogeneous_dirichlet,
+                                                   part.mask);
+        }
+    dirichlet_constraints.close();
+    homogeneous_dirichlet.close();
+
+    constraints.clear();
+    constraints.merge(hanging_node_constraints);
+    constraints.merge(dirichlet_constraints);
+    constraints.close();
+    homogeneous_constraints.clear();
+    homogeneous_constraints.merge(hanging_node_constraints);
+    homogeneous_constraints.merge(homogeneous_dirichlet);
+    homogeneous_constraints.close();
+
+    contact_boundary.reinit(mapping, dof_handler, dirichlet_constraints,
+                            hanging_node_constraints);
+    contact_condition->reinit(contact_boundary);
+
+    const IndexSet owned = dof_handler.locally_owned_dofs();
+    DynamicSparsityPattern dsp(dof_handler.n_dofs());
+    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints,
+                                    /*keep_constrained_dofs=*/true);
+    stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
+    condensed_stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
+    load.reinit(owned, MPI_COMM_WORLD);
+    solution.reinit(owned, MPI_COMM_WORLD);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::assemble_system()
+  {
+    TimerOutput::Scope t(timer, "assembly");
+    const QGaussSimplex<dim>     quadrature(3);
+    const QGaussSimplex<dim - 1> face_quadrature(3);
+    FEValues<dim>     fe_values(mapping, fe, quadrature,
+                            update_values | update_gradients |
+                              update_quadrature_points | update_JxW_values);
+    FEFaceValues<dim> fe_face_values(mapping, fe, face_quadrature,
+                                     update_values | update_quadrature_points |
+                                       update_JxW_values);
+    const FEValuesExtractors::Vector displacement(0);
+    const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
+    FullMatrix<double> cell_matrix(dofs_per_cell, dofs_per_cell);
+    Vector<double>     cell_rhs(dofs_per_cell);
+    std::vector<types::global_dof_index> dof_indices(dofs_per_cell);
+    std::vector<SymmetricTensor<2, dim>> eps(dofs_per_cell);
+    std::vector<Vector<double>>          force_values(quadrature.size(),
+                                             Vector<double>(dim));
+    std::vector<Vector<double>>          traction_values(face_quadrature.size(),
+                                                Vector<double>(dim));
+
+    stiffness           = 0.;
+    condensed_stiffness = 0.;
+    load                = 0.;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell_matrix = 0.;
+        cell_rhs    = 0.;
+        boundary_conditions.body_force->vector_value_list(
+          fe_values.get_quadrature_points(), force_values);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              eps[i] = fe_values[displacement].symmetric_gradient(i, q);
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              {
+                const SymmetricTensor<2, dim> sigma_i = material.stress(eps[i]);
+                for (unsigned int j = 0; j < dofs_per_cell; ++j)
+                  cell_matrix(i, j) += (sigma_i * eps[j]) * fe_values.JxW(q);
+                const unsigned int c = fe.system_to_component_index(i).first;
+                cell_rhs(i) += force_values[q][c] * fe_values.shape_value(i, q) *
+                               fe_values.JxW(q);
+              }
+          }
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto &part : boundary_conditions.tractions)
+              if (part.ids.count(cell->face(f)->boundary_id()) != 0)
+                {
+                  fe_face_values.reinit(cell, f);
+                  part.traction->vector_value_list(
+                    fe_face_values.get_quadrature_points(), traction_values);
+                  for (const unsigned int q :
+                       fe_face_values.quadrature_point_indices())
+                    for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                      {
+                        const unsigned int c = fe.system_to_component_index(i).first;
+                        cell_rhs(i) += traction_values[q][c] *
+                                       fe_face_values.shape_value(i, q) *
+                                       fe_face_values.JxW(q);
+                      }
+                }
+        cell->get_dof_indices(dof_indices);
+        stiffness.add(dof_indices, cell_matrix);
+        load.add(dof_indices, cell_rhs);
+        constraints.distribute_local_to_global(cell_matrix, dof_indices,
+                                               condensed_stiffness);
+      }
+    stiffness.compress(VectorOperation::add);
+    condensed_stiffness.compress(VectorOperation::add);
+    load.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::solve_contact(const unsigned int cycle)
+  {
+    {
+      TimerOutput::Scope t(timer, "linear solver setup");
+      std::vector<std::vector<bool>> constant_modes;
+      DoFTools::extract_constant_modes(dof_handler, ComponentMask(dim, true),
+                                       constant_modes);
+      linear_solver.initialize(stiffness, condensed_stiffness, constant_modes);
+    }
+
+    const DiscreteContactProblem<dim> problem(stiffness, load, constraints,
+                                              homogeneous_constraints,
+                                              hanging_node_constraints,
+                                              contact_boundary,
+                                              *contact_condition,
+                                              linear_solver);
+    Timer solve_timer;
+    typename ContactSolver<dim>::Report report;
+    {
+      TimerOutput::Scope t(timer, "contact solve");
+      solution = 0.;
+      report   = contact_solver->solve(problem, solution, dual_solution);
+    }
+    solve_timer.stop();
+    last_solve_converged = report.converged;
+
+    unsigned int n_active = 0;
+    const double threshold = 1e-8 * dual_solution.linfty_norm();
+    for (const double y : dual_solution)
+      n_active += (y > threshold) ? 1 : 0;
+    const Vector<double> nodal_forces =
+      contact_condition->nodal_forces(dual_solution);
+    double contact_force = 0.;
+    for (const double f : nodal_forces)
+      contact_force += f;
+
+    std::vector<Point<dim>> support_points(dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support_points);
+    std::vector<unsigned int> dof_component(dof_handler.n_dofs());
+    {
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            dof_component[dofs[i]] = fe.system_to_component_index(i).first;
+        }
+    }
+    const SolutionChecks checks = check_solution(problem, solution, dual_solution,
+                                                 dirichlet_constraints,
+                                                 support_points, dof_component);
+    const double energy = problem.energy(solution);
+
+    std::cout << "   " << contact_condition->name() << " condition, "
+              << contact_solver->name() << ": " << report.iterations
+              << " iterations, " << report.linear_solves << " linear solves ("
+              << report.linear_iterations << " CG iterations, "
+              << linear_solver.method() << ")" << std::endl
+              << "   active nodes " << n_active << " of "
+              << contact_condition->n_constraints() << ", energy "
+              << std::setprecision(10) << energy << ", contact force "
+              << std::setprecision(6) << contact_force << std::endl
+              << std::setprecision(2) << std::scientific
+              << "   checks: feasibility " << checks.feasibility
+              << ", multiplier sign " << checks.multiplier_sign
+              << ", complementarity " << checks.complementarity << ", residual "
+              << checks.residual << ", resultant " << checks.resultant
+              << std::defaultfloat << std::setprecision(6) << std::endl;
+    if (print_timing)
+      std::cout << "   contact solve " << solve_timer.wall_time() << " s"
+                << std::endl;
+
+    statistics_table.add_value("cycle", cycle);
+    statistics_table.add_value("cells", triangulation.n_active_cells());
+    statistics_table.add_value("dofs", dof_handler.n_dofs());
+    statistics_table.add_value("contact_nodes", contact_condition->n_constraints());
+    statistics_table.add_value("active_nodes", n_active);
+    statistics_table.add_value("condition", contact_condition->name());
+    statistics_table.add_value("solver", contact_solver->name());
+    statistics_table.add_value("linear_solver", linear_solver.method());
+    statistics_table.add_value("iterations", report.iterations);
+    statistics_table.add_value("linear_solves", report.linear_solves);
+    statistics_table.add_value("cg_iterations", report.linear_iterations);
+    statistics_table.add_value("converged", report.converged ? 1u : 0u);
+    statistics_table.add_value("kkt_residual", report.residual);
+    statistics_table.add_value("energy", energy);
+    statistics_table.add_value("contact_force", contact_force);
+    statistics_table.add_value("solve_seconds", solve_timer.wall_time());
+    statistics_table.add_value("feasibility", checks.feasibility);
+    statistics_table.add_value("multiplier_sign", checks.multiplier_sign);
+    statistics_table.add_value("complementarity", checks.complementarity);
+    statistics_table.add_value("residual", checks.residual);
+    statistics_table.add_value("resultant", checks.resultant);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::compute_exact_error()
+  {
+    // ||u - u_h||_u^2 = int eps(u - u_h) : K : eps(u - u_h)
+    const QGaussSimplex<dim> quadrature(4);
+    FEValues<dim> fe_values(mapping, fe, quadrature,
+                            update_gradients | update_quadrature_points |
+                              update_JxW_values);
+    const FEValuesExtractors::Vector          displacement(0);
+    LA::Vector                                 ghosted(solution);
+    std::vector<Tensor<2, dim>>               grad_h(quadrature.size());
+    std::vector<std::vector<Tensor<1, dim>>>  grad(quadrature.size(),
+                                                  std::vector<Tensor<1, dim>>(dim));
+    double error_sq = 0., norm_sq = 0.;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values[displacement].get_function_gradients(ghosted, grad_h);
+        exact_solution->vector_gradient_list(fe_values.get_quadrature_points(),
+                                             grad);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            Tensor<2, dim> g;
+            for (unsigned int c = 0; c < dim; ++c)
+              g[c] = grad[q][c];
+            const SymmetricTensor<2, dim> e  = symmetrize(g - grad_h[q]);
+            const SymmetricTensor<2, dim> ex = symmetrize(g);
+            error_sq += (material.stress(e) * e) * fe_values.JxW(q);
+            norm_sq += (material.stress(ex) * ex) * fe_values.JxW(q);
+          }
+      }
+    std::cout << "   energy-norm error " << std::sqrt(error_sq) << " (relative "
+              << std::sqrt(error_sq / norm_sq) << ")" << std::endl;
+    statistics_table.add_value("energy_error", std::sqrt(error_sq));
+    statistics_table.add_value("relative_energy_error",
+                               std::sqrt(error_sq / norm_sq));
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::write_contact_table(const unsigned int cycle) const
+  {
+    // One row per node of GC, sorted by position.
+    const unsigned int        n = contact_boundary.n_nodes();
+    std::vector<unsigned int> order(n);
+    for (unsigned int k = 0; k < n; ++k)
+      order[k] = k;
+    std::sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) {
+      const auto &pa = contact_boundary.node(a).position;
+      const auto &pb = contact_boundary.node(b).position;
+      return std::lexicographical_compare(&pa[0], &pa[0] + dim, &pb[0], &pb[0] + dim);
+    });
+    std::vector<int> row_of_node(n, -1);
+    const auto &     multiplier_nodes = contact_boundary.multiplier_nodes();
+    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+      row_of_node[multiplier_nodes[i]] = i;
+
+    const Vector<double> q_n    = contact_boundary.normal_displacements(solution);
+    const Vector<double> lambda = contact_condition->multiplier(dual_solution);
+    const Vector<double> forces = contact_condition->nodal_forces(dual_solution);
+    const double threshold = 1e-8 * dual_solution.linfty_norm();
+
+    std::ofstream out(output_directory + "/contact-" +
+                      Utilities::int_to_string(cycle, 2) + ".csv");
+    out << "x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active\n"
+        << std::setprecision(12);
+    for (const unsigned int k : order)
+      {
+        const auto &node = contact_boundary.node(k);
+        const int   i    = row_of_node[k];
+        out << node.position[0] << ',' << node.position[1] << ','
+            << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
+            << contact_boundary.nodal_gap()[k] << ',' << (i >= 0 ? lambda[i] : 0.)
+            << ',' << forces[k] << ','
+            << ((i >= 0 && dual_solution[i] > threshold) ? 1 : 0) << '\n';
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::output_results(const unsigned int cycle)
+  {
+    TimerOutput::Scope t(timer, "output");
+    write_contact_table(cycle);
+    statistics_table.end_row();
+    statistics_table.write(output_directory + "/statistics.csv");
+    if (!write_vtu)
+      return;
+
+    // contact fields as P1 functions that vanish away from GC
+    Vector<double> pressure(scalar_dof_handler.n_dofs());
+    Vector<double> active(scalar_dof_handler.n_dofs());
+    {
+      std::map<unsigned int, types::global_dof_index> dof_of_vertex;
+      for (const auto &cell : scalar_dof_handler.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
+      const Vector<double> lambda = contact_condition->multiplier(dual_solution);
+      const double threshold = 1e-8 * dual_solution.linfty_norm();
+      const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+      for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+        {
+          const auto dof = dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
+          pressure[dof] = -lambda[i];
+          active[dof]   = dual_solution[i] > threshold ? 1. : 0.;
+        }
+    }
+
+    const StressPostprocessor<dim> stress(material);
+    DataOut<dim>                   data_out;
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      vector_part(dim, DataComponentInterpretation::component_is_part_of_vector);
+    data_out.add_data_vector(dof_handler, solution,
+                             std::vector<std::string>(dim, "displacement"),
+                             vector_part);
+    data_out.add_data_vector(dof_handler, solution, stress);
+    data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
+    data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
+    data_out.build_patches(mapping);
+    const std::string name = "solution-" + Utilities::int_to_string(cycle, 2) + ".vtu";
+    std::ofstream     out(output_directory + "/" + name);
+    data_out.write_vtu(out);
+    vtu_files.emplace_back(cycle, name);
+    std::ofstream pvd(output_directory + "/solution.pvd");
+    DataOutBase::write_pvd_record(pvd, vtu_files);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::validate()
+  {
+    make_grid();
+    setup_system();
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::run()
+  {
+    std::filesystem::create_directories(output_directory);
+    {
+      std::ofstream out(output_directory + "/parameters.prm");
+      prm.print_parameters(out, ParameterHandler::PRM);
+    }
+    for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
+      {
+        if (cycle == 0)
+          make_grid();
+        else
+          {
+            TimerOutput::Scope t(timer, "make grid");
+            triangulation.refine_global(1);
+          }
+        setup_system();
+        std::cout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
+                  << " cells, " << dof_handler.n_dofs() << " DoFs, "
+                  << contact_boundary.n_nodes() << " nodes on GC ("
+                  << contact_condition->n_constraints() << " with a multiplier)"
+                  << std::endl;
+        assemble_system();
+        solve_contact(cycle);
+        if (exact_solution)
+          compute_exact_error();
+        output_results(cycle);
+        if (!last_solve_converged)
+          throw std::runtime_error("the contact solver did not converge in cycle " +
+                                   std::to_string(cycle) + " (outputs written)");
+      }
+    if (print_timing)
+      timer.print_summary();
+  }
+
+
+
+  template <int dim>
+  const CsvTable &
+  SignoriniProblem<dim>::statistics() const
+  {
+    return statistics_table;
+  }
+
+
+
+  template <int dim>
+  const LA::Vector &
+  SignoriniProblem<dim>::displacement() const
+  {
+    return solution;
+  }
+
+
+
+  template <int dim>
+  const Vector<double> &
+  SignoriniProblem<dim>::dual() const
+  {
+    return dual_solution;
+  }
+
+
+
+  template <int dim>
+  const DoFHandler<dim> &
+  SignoriniProblem<dim>::get_dof_handler() const
+  {
+    return dof_handler;
+  }
+
+  template class SignoriniProblem<2>;
+} // namespace Signorini
