@@ -74,6 +74,20 @@ namespace Signorini
 
 
 
+  std::vector<std::string>
+  CsvTable::column(const std::string &name) const
+  {
+    std::vector<std::string> values;
+    for (const auto &row : rows)
+      {
+        const auto it = row.find(name);
+        values.push_back(it == row.end() ? "" : it->second);
+      }
+    return values;
+  }
+
+
+
   std::string
   CsvTable::last(const std::string &column) const
   {

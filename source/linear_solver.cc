@@ -140,6 +140,7 @@ namespace Signorini
     amg.reset();
     if (use_direct)
       {
+        direct_control = SolverControl(1, 0., false, false);
         direct = std::make_unique<TrilinosWrappers::SolverDirect>(
           direct_control,
           TrilinosWrappers::SolverDirect::AdditionalData(false, direct_package));

@@ -7,6 +7,7 @@
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
 
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -56,7 +57,8 @@ main(int argc, char **argv)
       const std::string filename = args.back();
 
       parse_parameter_file(prm, filename);
-      SignoriniProblem<2> problem(prm);
+      SignoriniProblem<2> problem(
+        prm, std::filesystem::path(filename).parent_path().string());
       if (validate_only)
         {
           problem.validate();

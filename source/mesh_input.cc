@@ -21,8 +21,8 @@ namespace Signorini
       prm.declare_entry("File name", "", Patterns::Anything(),
                         "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles; "
                         "physical curve tags are boundary ids (do not use "
-                        "0), a relative path is taken from the working "
-                        "directory.");
+                        "0); a relative path is taken from the directory of "
+                        "the parameter file.");
       prm.declare_entry("Block subdivisions", "4, 3",
                         Patterns::List(Patterns::Integer(1), dim, dim),
                         "Rectangles per direction of the generated block; "
@@ -54,6 +54,15 @@ namespace Signorini
     prm.leave_subsection();
     if (source == "file" && file_name.empty())
       throw InputError("Mesh/File name is empty but Mesh/Source = file");
+  }
+
+
+
+  template <int dim>
+  void
+  MeshInput<dim>::set_input_directory(const std::string &directory)
+  {
+    input_directory = directory.empty() ? "." : directory;
   }
 
 
@@ -109,10 +118,12 @@ namespace Signorini
       }
     else
       {
-        std::ifstream in(file_name);
+        const std::string path =
+          (file_name[0] == '/') ? file_name : input_directory + "/" + file_name;
+        std::ifstream in(path);
         if (!in)
-          throw InputError("Mesh/File name: cannot open mesh file <" +
-                           file_name + ">");
+          throw InputError("Mesh/File name: cannot open mesh file <" + path +
+                           ">");
         GridIn<dim> grid_in;
         grid_in.attach_triangulation(triangulation);
         try
@@ -124,11 +135,11 @@ namespace Signorini
             std::ostringstream text;
             exc.print_info(text);
             throw InputError("Mesh/File name: cannot read mesh file <" +
-                             file_name + ">: " + one_line_message(text.str()));
+                             path + ">: " + one_line_message(text.str()));
           }
         if (triangulation.n_active_cells() == 0 ||
             !triangulation.all_reference_cells_are_simplex())
-          throw InputError("Mesh/File name: <" + file_name +
+          throw InputError("Mesh/File name: <" + path +
                            "> must contain triangles only");
       }
     triangulation.refine_global(initial_refinements);

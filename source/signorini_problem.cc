@@ -61,7 +61,8 @@ namespace Signorini
 
 
   template <int dim>
-  SignoriniProblem<dim>::SignoriniProblem(ParameterHandler &prm)
+  SignoriniProblem<dim>::SignoriniProblem(ParameterHandler & prm,
+                                          const std::string &input_directory)
     : prm(prm)
     , fe(FE_SimplexP<dim>(1), dim)
     , mapping(FE_SimplexP<dim>(1))
@@ -80,6 +81,7 @@ namespace Signorini
     prm.leave_subsection();
 
     mesh_input.parse_parameters(prm);
+    mesh_input.set_input_directory(input_directory);
     material.parse_parameters(prm);
     boundary_conditions.parse_parameters(prm);
     contact_boundary.parse_parameters(prm);
@@ -287,7 +289,7 @@ namespace Signorini
     last_solve_converged = report.converged;
 
     unsigned int n_active = 0;
-    const double threshold = 1e-8 * dual_solution.linfty_norm();
+    const double threshold = 1e-8 * max_norm(dual_solution);
     for (const double y : dual_solution)
       n_active += (y > threshold) ? 1 : 0;
     const Vector<double> nodal_forces =
@@ -420,7 +422,7 @@ namespace Signorini
     const Vector<double> q_n    = contact_boundary.normal_displacements(solution);
     const Vector<double> lambda = contact_condition->multiplier(dual_solution);
     const Vector<double> forces = contact_condition->nodal_forces(dual_solution);
-    const double threshold = 1e-8 * dual_solution.linfty_norm();
+    const double threshold = 1e-8 * max_norm(dual_solution);
 
     std::ofstream out(output_directory + "/contact-" +
                       Utilities::int_to_string(cycle, 2) + ".csv");
@@ -460,7 +462,7 @@ namespace Signorini
         for (const unsigned int v : cell->vertex_indices())
           dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
       const Vector<double> lambda = contact_condition->multiplier(dual_solution);
-      const double threshold = 1e-8 * dual_solution.linfty_norm();
+      const double threshold = 1e-8 * max_norm(dual_solution);
       const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
       for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
         {

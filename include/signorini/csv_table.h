@@ -35,6 +35,10 @@ namespace Signorini
     void
     write(const std::string &filename) const;
 
+    /// Values of @p column in all completed rows ("" where unset).
+    std::vector<std::string>
+    column(const std::string &name) const;
+
     /// Value of @p column in the last completed row ("" if unset).
     std::string
     last(const std::string &column) const;

@@ -4,6 +4,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/lac/vector.h>
 
 namespace Signorini
 {
@@ -17,6 +18,13 @@ namespace Signorini
     using Vector       = dealii::TrilinosWrappers::MPI::Vector;
     using SparseMatrix = dealii::TrilinosWrappers::SparseMatrix;
   } // namespace LA
+
+  /// max_i |v_i|, zero for an empty vector (no contact nodes).
+  inline double
+  max_norm(const dealii::Vector<double> &v)
+  {
+    return v.size() > 0 ? v.linfty_norm() : 0.;
+  }
 } // namespace Signorini
 
 #endif

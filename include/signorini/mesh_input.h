@@ -15,7 +15,8 @@ namespace Signorini
   /**
    * Where the initial triangle mesh comes from: the block of the paper
    * (spec section 6.1) generated in place, or an ASCII Gmsh file whose
-   * physical curve tags become boundary ids.
+   * physical curve tags become boundary ids (a relative file name is taken
+   * from the directory of the parameter file).
    *
    * Boundary ids of the generated block (0,1)^2:
    *   1 left edge x = 0, 2 bottom edge y = 0,
@@ -32,6 +33,11 @@ namespace Signorini
     void
     parse_parameters(ParameterHandler &prm);
 
+    /// Relative mesh file names are taken from this directory (the
+    /// parameter file's).
+    void
+    set_input_directory(const std::string &directory);
+
     /// Fill the (empty) @p triangulation with the initial mesh, refined
     /// "Initial refinements" times. Throws InputError for unreadable files.
     void
@@ -39,6 +45,7 @@ namespace Signorini
 
     std::string               source = "block";
     std::string               file_name;
+    std::string               input_directory = ".";
     std::vector<unsigned int> block_subdivisions = {4, 3};
     unsigned int              initial_refinements = 0;
   };

@@ -52,8 +52,10 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Parse every part; throws InputError for inconsistent input.
-    explicit SignoriniProblem(ParameterHandler &prm);
+    /// Parse every part; throws InputError for inconsistent input. Relative
+    /// file names in @p prm are taken from @p input_directory.
+    explicit SignoriniProblem(ParameterHandler & prm,
+                              const std::string &input_directory = ".");
 
     /// Build the initial mesh and the discrete spaces, checking that every
     /// boundary id named in the input exists, without solving.

@@ -1,5 +1,7 @@
 #include <signorini/contact/active_set_solver.h>
 
+#include <cstdlib>
+#include <iostream>
 #include <set>
 
 namespace Signorini
@@ -75,11 +77,25 @@ namespace Signorini
         // are in contact with a zero force (the contact/separation point).
         const Vector<double> slack = problem.slack(u);
         const double tol_slack = 1e-9 * problem.constraint_scale(u);
-        const double tol_y     = 1e-9 * y.linfty_norm();
+        const double tol_y     = 1e-9 * max_norm(y);
         std::vector<bool> next(m);
         for (unsigned int i = 0; i < m; ++i)
           next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
 
+        if (std::getenv("SIGNORINI_DEBUG"))
+          {
+            unsigned int n_next = 0, n_now = 0, entering = 0, leaving = 0;
+            for (unsigned int i = 0; i < m; ++i)
+              {
+                n_next += next[i];
+                n_now += active[i];
+                entering += (next[i] && !active[i]);
+                leaving += (!next[i] && active[i]);
+              }
+            std::cout << "      it " << report.iterations << (exact ? " exact" : " inexact")
+                      << " |A| " << n_now << " -> " << n_next << " (+" << entering
+                      << " -" << leaving << ")" << std::endl;
+          }
         if (next == active)
           {
             if (exact)
@@ -107,10 +123,13 @@ namespace Signorini
         active = next;
       }
 
+    if (m == 0)
+      return report;
+
     // Report the relative KKT residual of the final iterate.
     const Vector<double> slack = problem.slack(u);
     const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
-    const double         scale_dual   = std::max(y.linfty_norm(), 1e-300);
+    const double         scale_dual   = std::max(max_norm(y), 1e-300);
     for (unsigned int i = 0; i < m; ++i)
       report.residual = std::max({report.residual,
                                   -slack[i] / scale_primal,

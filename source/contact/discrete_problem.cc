@@ -48,7 +48,8 @@ namespace Signorini
   DiscreteContactProblem<dim>::slack(const LA::Vector &u) const
   {
     Vector<double> s = contact_condition.bounds();
-    s -= constraint_values(u);
+    if (s.size() > 0)
+      s -= constraint_values(u);
     return s;
   }
 
@@ -196,11 +197,13 @@ namespace Signorini
   double
   DiscreteContactProblem<dim>::constraint_scale(const LA::Vector &u) const
   {
+    if (n_constraints() == 0)
+      return u.linfty_norm();
     double weight = 0.;
     for (unsigned int i = 0; i < n_constraints(); ++i)
       weight = std::max(weight, contact_condition.row_weight(i));
     return weight *
-           std::max(u.linfty_norm(), contact_boundary.nodal_gap().linfty_norm());
+           std::max(u.linfty_norm(), max_norm(contact_boundary.nodal_gap()));
   }
 
   template class DiscreteContactProblem<2>;

@@ -68,7 +68,7 @@ namespace Signorini
     d -= problem.bounds();
     Vector<double> g(d); // g = S y - d
     g *= -1.;
-    const double scale = std::max(d.linfty_norm(), 1e-300);
+    const double scale = std::max(max_norm(d), 1e-300);
 
     std::map<unsigned int, Vector<double>> columns; // S e_i
     const auto column = [&](const unsigned int i) -> const Vector<double> & {

@@ -37,8 +37,9 @@ namespace Signorini
   Vector<double>
   IntegralCondition<dim>::multiplier(const Vector<double> &y) const
   {
-    Vector<double> lambda(y);
-    lambda *= -1.;
+    Vector<double> lambda(y.size());
+    for (unsigned int i = 0; i < y.size(); ++i)
+      lambda[i] = -y[i];
     return lambda;
   }
 

@@ -62,8 +62,9 @@ namespace Signorini
   PointwiseCondition<dim>::multiplier(const Vector<double> &y) const
   {
     // Gamma = -y = M Lambda
-    Vector<double> lambda(y);
-    lambda *= -1.;
+    Vector<double> lambda(y.size());
+    for (unsigned int i = 0; i < y.size(); ++i)
+      lambda[i] = -y[i];
     if (lambda.size() > 0)
       multiplier_mass_inverse.solve(lambda);
     return lambda;

@@ -17,7 +17,7 @@ namespace Signorini
     // complementarity conditions
     const Vector<double> slack        = problem.slack(u);
     const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
-    const double         scale_dual   = std::max(y.linfty_norm(), 1e-300);
+    const double         scale_dual   = std::max(max_norm(y), 1e-300);
     for (unsigned int i = 0; i < y.size(); ++i)
       {
         checks.feasibility = std::max(checks.feasibility, -slack[i] / scale_primal);

@@ -1,0 +1,93 @@
+// Hertz contact of a cylinder on a rigid plane (prm/hertz.prm), both
+// discrete conditions: the computed contact half-width must be within one
+// contact element of a = sqrt(4 P R / (pi E*)), and the contact pressure -Lambda
+// within 5 % of p(x) = 2P/(pi a^2) sqrt(a^2 - x^2) in relative L2 norm over
+// the contact zone, P being the computed load per unit length.
+
+#include "tests.h"
+
+namespace
+{
+  struct ContactNode
+  {
+    double x, pressure;
+    bool   active;
+  };
+
+  std::vector<ContactNode>
+  read_contact_table(const std::string &filename)
+  {
+    std::ifstream            in(filename);
+    std::string              line;
+    std::vector<ContactNode> nodes;
+    std::getline(in, line); // header
+    while (std::getline(in, line))
+      {
+        const auto v = dealii::Utilities::split_string_list(line, ',');
+        // x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active
+        nodes.push_back({std::stod(v[0]), -std::stod(v[5]), v[7] == "1"});
+      }
+    return nodes;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  using namespace SignoriniTests;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  std::ofstream                    logfile("output");
+  deallog.attach(logfile);
+  deallog.depth_console(0);
+  deallog.depth_file(1);
+
+  const double R = 1., E = 1., nu = 0.3, E_star = E / (1. - nu * nu);
+  unsigned int failures = 0;
+  for (const std::string condition : {"integral", "pointwise"})
+    {
+      const Result r = run("hertz.prm",
+                           {{"Contact/Condition", condition},
+                            {"Output directory", "output-" + condition}});
+      const double P = 2. * std::abs(value(r, "contact_force"));
+      const double a = std::sqrt(4. * P * R / (numbers::PI * E_star));
+      const auto nodes = read_contact_table("output-" + condition + "/contact-00.csv");
+
+      // half-width: between the last active node and the next one
+      unsigned int last = 0;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        if (nodes[k].active)
+          last = k;
+      const double element = nodes[last + 1].x - nodes[last].x;
+
+      // relative L2 error of the P1 pressure on (0, a)
+      const auto exact = [&](const double x) {
+        return x < a ? 2. * P / (numbers::PI * a * a) * std::sqrt(a * a - x * x) : 0.;
+      };
+      double error_sq = 0., norm_sq = 0.;
+      for (unsigned int k = 0; k + 1 < nodes.size() && nodes[k].x < a; ++k)
+        for (unsigned int s = 0; s < 200; ++s)
+          {
+            const double t  = (s + 0.5) / 200.;
+            const double x  = nodes[k].x + t * (nodes[k + 1].x - nodes[k].x);
+            if (x > a)
+              break;
+            const double dx = (nodes[k + 1].x - nodes[k].x) / 200.;
+            const double ph = (1 - t) * nodes[k].pressure + t * nodes[k + 1].pressure;
+            error_sq += (ph - exact(x)) * (ph - exact(x)) * dx;
+            norm_sq += exact(x) * exact(x) * dx;
+          }
+      const double relative_error = std::sqrt(error_sq / norm_sq);
+
+      deallog << condition << ": P = " << std::setprecision(3) << P
+              << ", a/R = " << a / R << ", computed half-width in ["
+              << nodes[last].x << ", " << nodes[last + 1].x
+              << "], pressure error " << std::fixed << std::setprecision(1)
+              << 100. * relative_error << " %" << std::defaultfloat << std::endl;
+      expect_below(condition + " a/R <= 0.1", a / R, 0.1, failures);
+      expect_below(condition + " |a_h - a| within one contact element",
+                   std::abs(nodes[last].x - a), element, failures);
+      expect_below(condition + " relative L2 pressure error <= 5%",
+                   relative_error, 0.05, failures);
+    }
+  return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,104 @@
+// Helpers shared by the unit tests: run the application on a parameter file
+// with some entries overridden, and read back what it computed.
+#ifndef signorini_tests_h
+#define signorini_tests_h
+
+#include <deal.II/base/logstream.h>
+#include <deal.II/base/utilities.h>
+
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
+
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace SignoriniTests
+{
+  using namespace dealii;
+  using namespace Signorini;
+
+  /// Set "A/B/name" in @p prm.
+  inline void
+  set_entry(ParameterHandler &prm, const std::string &path, const std::string &value)
+  {
+    const auto parts = Utilities::split_string_list(path, '/');
+    for (unsigned int i = 0; i + 1 < parts.size(); ++i)
+      prm.enter_subsection(parts[i]);
+    prm.set(parts.back(), value);
+    for (unsigned int i = 0; i + 1 < parts.size(); ++i)
+      prm.leave_subsection();
+  }
+
+  struct Result
+  {
+    std::map<std::string, std::string> statistics; // last row
+    std::map<std::string, std::vector<double>> history; // numeric columns
+    std::vector<bool>                  active;     // per multiplier node
+    Vector<double>                     dual;
+  };
+
+  /// Run @p prm_file (relative to the source tree's prm/) with overrides.
+  inline Result
+  run(const std::string &                       prm_file,
+      const std::map<std::string, std::string> &overrides)
+  {
+    ParameterHandler prm;
+    SignoriniProblem<2>::declare_parameters(prm);
+    const std::string directory = std::string(SOURCE_DIR) + "/../prm";
+    parse_parameter_file(prm, directory + "/" + prm_file);
+    set_entry(prm, "Output/Print timing", "false");
+    set_entry(prm, "Output/Write vtu", "false");
+    for (const auto &[path, value] : overrides)
+      set_entry(prm, path, value);
+
+    SignoriniProblem<2> problem(prm, directory);
+    std::ostringstream  screen; // the application's log is not compared
+    auto *const         old = std::cout.rdbuf(screen.rdbuf());
+    problem.run();
+    std::cout.rdbuf(old);
+
+    Result result;
+    for (const auto &column :
+         {"cells", "dofs", "contact_nodes", "active_nodes", "iterations",
+          "energy", "contact_force", "feasibility", "multiplier_sign",
+          "complementarity", "residual", "resultant", "converged",
+          "energy_error"})
+      {
+        result.statistics[column] = problem.statistics().last(column);
+        for (const auto &v : problem.statistics().column(column))
+          result.history[column].push_back(v.empty() ? 0. : std::stod(v));
+      }
+    result.dual = problem.dual();
+    const double threshold = 1e-8 * max_norm(result.dual);
+    for (const double y : result.dual)
+      result.active.push_back(y > threshold);
+    return result;
+  }
+
+  inline double
+  value(const Result &result, const std::string &column)
+  {
+    return Utilities::string_to_double(result.statistics.at(column));
+  }
+
+  /// Print "name: OK" or "name: FAILED (value vs bound)" and count failures.
+  inline void
+  expect_below(const std::string &name, const double value, const double bound,
+               unsigned int &failures)
+  {
+    if (value <= bound)
+      deallog << name << ": OK" << std::endl;
+    else
+      {
+        deallog << name << ": FAILED (" << value << " > " << bound << ")"
+                << std::endl;
+        ++failures;
+      }
+  }
+} // namespace SignoriniTests
+
+#endif
