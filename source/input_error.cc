@@ -5,6 +5,7 @@
 
 #include <signorini/input_error.h>
 
+#include <iostream>
 #include <sstream>
 
 namespace Signorini
@@ -81,14 +82,20 @@ namespace Signorini
                  const std::string &description)
   {
     auto function = std::make_unique<Functions::ParsedFunction<dim>>(n_components);
+    // deal.II echoes muparser's diagnostics on std::cerr before throwing;
+    // keep them out of the user's terminal, the exception says the same.
+    std::ostringstream muparser_diagnostics;
+    std::streambuf *const cerr_buffer = std::cerr.rdbuf(muparser_diagnostics.rdbuf());
     try
       {
         function->parse_parameters(prm);
         Vector<double> values(n_components);
         function->vector_value(Point<dim>(), values); // forces muparser to parse
+        std::cerr.rdbuf(cerr_buffer);
       }
     catch (const ExceptionBase &exc)
       {
+        std::cerr.rdbuf(cerr_buffer);
         std::ostringstream text;
         exc.print_info(text);
         throw InputError(description + ": invalid function (expected " +
@@ -97,6 +104,7 @@ namespace Signorini
       }
     catch (const std::exception &exc)
       {
+        std::cerr.rdbuf(cerr_buffer);
         throw InputError(description + ": invalid function: " +
                          one_line_message(exc.what()));
       }

@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# Bad input must end with one line "signorini: error: ..." naming the culprit
+# and a non-zero exit code, never an abort, a segfault or a backtrace.
+# Usage: bad_input.sh SIGNORINI_EXECUTABLE SOURCE_DIR
+set -u
+exe=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+count=0
+
+# check NAME EXPECTED_SUBSTRING ARGS...
+check() {
+  local name=$1 expected=$2
+  shift 2
+  count=$((count + 1))
+  "$exe" "$@" > "$work/stdout" 2> "$work/stderr"
+  local code=$?
+  local lines
+  lines=$(wc -l < "$work/stderr")
+  if [ "$code" -eq 0 ] || [ "$code" -ge 128 ] || [ "$lines" -ne 1 ] ||
+     ! grep -q "^signorini: error: .*$expected" "$work/stderr" ||
+     grep -q -i -E "stacktrace|aborted|segmentation" "$work/stderr" "$work/stdout"; then
+    echo "FAIL $name (exit $code):"
+    cat "$work/stderr"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(cat "$work/stderr")"
+  fi
+}
+
+# case NAME EXPECTED TEXT: the block example with TEXT appended
+case_prm() {
+  local name=$1 expected=$2 text=$3
+  { cat "$src/prm/block.prm"; printf '%s\n' "$text"; } > "$work/case.prm"
+  printf 'set Output directory = %s/out\n' "$work" >> "$work/case.prm"
+  check "$name" "$expected" "$work/case.prm"
+}
+
+printf 'not a mesh\n' > "$work/garbage.msh"
+
+case_prm "missing mesh file" "cannot open mesh file" \
+  "subsection Mesh
+  set Source = file
+  set File name = no-such-file.msh
+end"
+case_prm "unreadable mesh file" "cannot read mesh file" \
+  "subsection Mesh
+  set Source = file
+  set File name = $work/garbage.msh
+end"
+case_prm "contact id absent" "Contact/Boundary ids: boundary id 9" \
+  "subsection Contact
+  set Boundary ids = 9
+end"
+case_prm "Dirichlet id absent" "Dirichlet: boundary id 42" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Boundary ids = 42
+  end
+end"
+case_prm "nu = 0.5" "Material/Poisson ratio" \
+  "subsection Material
+  set Poisson ratio = 0.5
+end"
+case_prm "nu > 0.5" "Material/Poisson ratio" \
+  "subsection Material
+  set Poisson ratio = 0.7
+end"
+case_prm "E = 0" "Material/Young modulus" \
+  "subsection Material
+  set Young modulus = 0
+end"
+case_prm "E < 0" "Material/Young modulus" \
+  "subsection Material
+  set Young modulus = -3
+end"
+case_prm "unknown parameter" "Poisson ration" \
+  "subsection Material
+  set Poisson ration = 0.3
+end"
+case_prm "malformed function" "Traction 1" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function expression = 0; -p*(x
+  end
+end"
+case_prm "wrong number of components" "Traction 2" \
+  "subsection Boundary conditions
+  subsection Traction 2
+    set Function expression = -p
+  end
+end"
+case_prm "unknown constant in gap" "Contact/Gap" \
+  "subsection Contact
+  subsection Gap
+    set Function expression = gap0*x
+  end
+end"
+case_prm "zero contact direction" "Contact/Direction" \
+  "subsection Contact
+  set Direction = 0, 0
+end"
+case_prm "invalid selection" "Condition" \
+  "subsection Contact
+  set Condition = mortar
+end"
+check "missing parameter file" "no-such-file.prm" "$work/no-such-file.prm"
+
+# and the good paths: the documented defaults parse back, --validate accepts
+# the shipped examples
+count=$((count + 1))
+if "$exe" --print-parameters > "$work/defaults.prm" &&
+   "$exe" --validate "$work/defaults.prm" > /dev/null &&
+   "$exe" --validate "$src/prm/block.prm" > /dev/null &&
+   "$exe" --validate "$src/prm/hertz.prm" > /dev/null; then
+  echo "ok   defaults round trip and --validate of the examples"
+else
+  echo "FAIL defaults round trip or --validate"
+  failures=$((failures + 1))
+fi
+
+echo "$((count - failures)) passed, $failures failed"
+[ "$failures" -eq 0 ]
