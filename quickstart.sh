@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Set everything up on a fresh Debian machine (as root) and
+#   bash quickstart.sh example   build in Release (build/) and run prm/block.prm
+#   bash quickstart.sh test      build in Debug (build-debug/) and run the test
+#                                suite, then the bad-input test in Release
+set -euo pipefail
+cd "$(dirname "$0")"
+what=${1:-}
+jobs=$(nproc)
+
+install_dependencies() {
+  local packages="cmake make g++ libdeal.ii-dev numdiff libopenblas0 gmsh python3"
+  local missing=""
+  for p in $packages; do
+    dpkg -s "$p" > /dev/null 2>&1 || missing="$missing $p"
+  done
+  if [ -n "$missing" ]; then
+    echo "installing:$missing"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -q
+    apt-get install -y -q $missing
+  fi
+}
+
+build() { # build DIRECTORY BUILD_TYPE
+  cmake -S . -B "$1" -DCMAKE_BUILD_TYPE="$2" > /dev/null
+  cmake --build "$1" -j "$jobs"
+}
+
+case "$what" in
+  example)
+    install_dependencies
+    build build Release
+    ./build/signorini prm/block.prm
+    echo "results in output-block/ (open solution.pvd in ParaView)"
+    ;;
+  test)
+    install_dependencies
+    build build-debug Debug
+    (cd build-debug && ctest -j "$jobs" --output-on-failure)
+    build build Release
+    (cd build && ctest -R bad_input --output-on-failure)
+    ;;
+  *)
+    echo "usage: bash quickstart.sh example|test" >&2
+    exit 1
+    ;;
+esac
