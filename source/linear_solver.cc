@@ -132,10 +132,50 @@ namespace Signorini
     const LA::SparseMatrix &               condensed_stiffness,
     const std::vector<std::vector<bool>> &constant_modes)
   {
-    stiffness_matrix = &stiffness;
+    stiffness_matrix  = &stiffness;
+    condensed_matrix  = &condensed_stiffness;
+    translation_modes = constant_modes;
     use_direct =
       (type == "direct") ||
       (type == "automatic" && stiffness.m() <= direct_solver_limit);
+    current_eliminated_dofs.clear();
+    build_preconditioner(condensed_stiffness);
+  }
+
+
+
+  void
+  ElasticitySolver::update_preconditioner(
+    const std::vector<types::global_dof_index> &eliminated_dofs)
+  {
+    Assert(condensed_matrix != nullptr, ExcNotInitialized());
+    if (eliminated_dofs == current_eliminated_dofs)
+      return;
+    current_eliminated_dofs = eliminated_dofs;
+    if (eliminated_dofs.empty())
+      {
+        build_preconditioner(*condensed_matrix);
+        return;
+      }
+    modified_matrix.copy_from(*condensed_matrix);
+    // zero the columns (the pattern is symmetric), then the rows
+    for (const auto dof : eliminated_dofs)
+      for (auto entry = condensed_matrix->begin(dof);
+           entry != condensed_matrix->end(dof);
+           ++entry)
+        if (entry->column() != dof)
+          modified_matrix.set(entry->column(), dof, 0.);
+    modified_matrix.compress(VectorOperation::insert);
+    for (const auto dof : eliminated_dofs)
+      modified_matrix.clear_row(dof, condensed_matrix->diag_element(dof));
+    build_preconditioner(modified_matrix);
+  }
+
+
+
+  void
+  ElasticitySolver::build_preconditioner(const LA::SparseMatrix &matrix)
+  {
     direct.reset();
     amg.reset();
     if (use_direct)
@@ -146,7 +186,7 @@ namespace Signorini
           TrilinosWrappers::SolverDirect::AdditionalData(false, direct_package));
         try
           {
-            direct->initialize(condensed_stiffness);
+            direct->initialize(matrix);
           }
         catch (const ExceptionBase &exc)
           {
@@ -164,9 +204,9 @@ namespace Signorini
         data.higher_order_elements = false;
         data.smoother_sweeps       = 2;
         data.aggregation_threshold = 0.02;
-        data.constant_modes        = constant_modes;
+        data.constant_modes        = translation_modes;
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-        amg->initialize(condensed_stiffness, data);
+        amg->initialize(matrix, data);
       }
   }
 

@@ -6,6 +6,8 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 
+
+
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <deal.II/numerics/data_out.h>
@@ -49,6 +51,13 @@ namespace Signorini
     }
     prm.leave_subsection();
 
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Initial active set from previous cycle", "true",
+                      Patterns::Bool(),
+                      "Start the active set method of a cycle from the "
+                      "active set of the previous (coarser) cycle.");
+    prm.leave_subsection();
+
     MeshInput<dim>::declare_parameters(prm);
     LinearElasticMaterial<dim>::declare_parameters(prm);
     BoundaryConditions<dim>::declare_parameters(prm);
@@ -85,6 +94,9 @@ namespace Signorini
     material.parse_parameters(prm);
     boundary_conditions.parse_parameters(prm);
     contact_boundary.parse_parameters(prm);
+    prm.enter_subsection("Contact");
+    guess_from_previous_cycle = prm.get_bool("Initial active set from previous cycle");
+    prm.leave_subsection();
     contact_condition = create_contact_condition<dim>(prm);
     contact_solver    = create_contact_solver<dim>(prm);
     linear_solver.parse_parameters(prm);
@@ -264,6 +276,7 @@ namespace Signorini
   void
   SignoriniProblem<dim>::solve_contact(const unsigned int cycle)
   {
+    Timer setup_timer;
     {
       TimerOutput::Scope t(timer, "linear solver setup");
       std::vector<std::vector<bool>> constant_modes;
@@ -271,6 +284,7 @@ namespace Signorini
                                        constant_modes);
       linear_solver.initialize(stiffness, condensed_stiffness, constant_modes);
     }
+    setup_timer.stop();
 
     const DiscreteContactProblem<dim> problem(stiffness, load, constraints,
                                               homogeneous_constraints,
@@ -283,7 +297,8 @@ namespace Signorini
     {
       TimerOutput::Scope t(timer, "contact solve");
       solution = 0.;
-      report   = contact_solver->solve(problem, solution, dual_solution);
+      report   = contact_solver->solve(problem, solution, dual_solution,
+                                     initial_active_set_guess());
     }
     solve_timer.stop();
     last_solve_converged = report.converged;
@@ -292,6 +307,11 @@ namespace Signorini
     const double threshold = 1e-8 * max_norm(dual_solution);
     for (const double y : dual_solution)
       n_active += (y > threshold) ? 1 : 0;
+    previous_contact_state.clear();
+    for (unsigned int i = 0; i < dual_solution.size(); ++i)
+      previous_contact_state.emplace_back(
+        contact_boundary.node(contact_boundary.multiplier_nodes()[i]).position,
+        dual_solution[i] > threshold);
     const Vector<double> nodal_forces =
       contact_condition->nodal_forces(dual_solution);
     double contact_force = 0.;
@@ -349,12 +369,49 @@ namespace Signorini
     statistics_table.add_value("kkt_residual", report.residual);
     statistics_table.add_value("energy", energy);
     statistics_table.add_value("contact_force", contact_force);
+    statistics_table.add_value("setup_seconds", setup_timer.wall_time());
     statistics_table.add_value("solve_seconds", solve_timer.wall_time());
     statistics_table.add_value("feasibility", checks.feasibility);
     statistics_table.add_value("multiplier_sign", checks.multiplier_sign);
     statistics_table.add_value("complementarity", checks.complementarity);
     statistics_table.add_value("residual", checks.residual);
     statistics_table.add_value("resultant", checks.resultant);
+  }
+
+
+
+  template <int dim>
+  std::vector<bool>
+  SignoriniProblem<dim>::initial_active_set_guess() const
+  {
+    if (!guess_from_previous_cycle || previous_contact_state.empty())
+      return {};
+    // A node of the new mesh is either a node of the previous one (keep its
+    // state) or lies between two of them (active if both were).
+    const auto &       nodes = contact_boundary.multiplier_nodes();
+    std::vector<bool>  guess(nodes.size(), false);
+    Point<dim> lower = previous_contact_state[0].first, upper = lower;
+    for (const auto &state : previous_contact_state)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower[d] = std::min(lower[d], state.first[d]);
+          upper[d] = std::max(upper[d], state.first[d]);
+        }
+    const double tolerance = 1e-10 * lower.distance(upper);
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      {
+        const Point<dim> &x = contact_boundary.node(nodes[i]).position;
+        std::vector<std::pair<double, bool>> by_distance;
+        for (const auto &[position, active] : previous_contact_state)
+          by_distance.emplace_back(x.distance(position), active);
+        const unsigned int n_nearest = std::min<std::size_t>(2, by_distance.size());
+        std::partial_sort(by_distance.begin(), by_distance.begin() + n_nearest,
+                          by_distance.end());
+        guess[i] = (by_distance[0].first < tolerance) ?
+                     by_distance[0].second :
+                     (by_distance[0].second && by_distance[n_nearest - 1].second);
+      }
+    return guess;
   }
 
 

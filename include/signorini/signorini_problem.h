@@ -95,6 +95,11 @@ namespace Signorini
     void
     compute_exact_error();
 
+    /// The active set of the previous cycle carried to the current contact
+    /// nodes (empty if there is none or the option is off).
+    std::vector<bool>
+    initial_active_set_guess() const;
+
     void
     output_results(const unsigned int cycle);
 
@@ -131,6 +136,9 @@ namespace Signorini
     ContactBoundary<dim>                    contact_boundary;
     std::unique_ptr<ContactCondition<dim>>  contact_condition;
     std::unique_ptr<ContactSolver<dim>>     contact_solver;
+    bool                                    guess_from_previous_cycle = true;
+    /// (position, active) of the multiplier nodes of the previous cycle
+    std::vector<std::pair<Point<dim>, bool>> previous_contact_state;
 
     // Linear algebra
     LA::SparseMatrix stiffness;

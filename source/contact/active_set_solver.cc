@@ -1,7 +1,5 @@
 #include <signorini/contact/active_set_solver.h>
 
-#include <cstdlib>
-#include <iostream>
 #include <set>
 
 namespace Signorini
@@ -18,6 +16,11 @@ namespace Signorini
                       "Relative CG tolerance of the solves while the active "
                       "set still changes (the final solve uses Linear "
                       "solver/Relative tolerance).");
+    prm.declare_entry("Preconditioner update fraction", "0.02",
+                      Patterns::Double(0., 1.),
+                      "Rebuild the elasticity preconditioner for the current "
+                      "active set when more than this fraction of the contact "
+                      "rows changed state since it was built.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -32,6 +35,8 @@ namespace Signorini
     prm.enter_subsection("Active set");
     max_iterations    = prm.get_integer("Maximum iterations");
     inexact_tolerance = prm.get_double("Inexact tolerance");
+    preconditioner_update_fraction =
+      prm.get_double("Preconditioner update fraction");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -51,17 +56,29 @@ namespace Signorini
   typename ContactSolver<dim>::Report
   ActiveSetSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
                               LA::Vector &                       u,
-                              Vector<double> &                   y)
+                              Vector<double> &                   y,
+                              const std::vector<bool> &          initial_active)
   {
     typename ContactSolver<dim>::Report report;
     const unsigned int                  m = problem.n_constraints();
-    std::vector<bool>                   active(m, false);
-    std::set<std::vector<bool>>         visited{active};
-    bool                                exact = (inexact_tolerance == 0.);
+    // Without a guess the first step (empty active set) is the
+    // unconstrained problem.
+    std::vector<bool> active =
+      (initial_active.size() == m) ? initial_active : std::vector<bool>(m, false);
+    std::set<std::vector<bool>> visited{active};
+    bool                        exact = (inexact_tolerance == 0.);
+    std::vector<bool>           preconditioned(m, false);
 
-    // The first step (empty active set) is the unconstrained problem.
     while (true)
       {
+        unsigned int drift = 0;
+        for (unsigned int i = 0; i < m; ++i)
+          drift += (active[i] != preconditioned[i]) ? 1 : 0;
+        if (drift > preconditioner_update_fraction * m)
+          {
+            problem.update_preconditioner(active);
+            preconditioned = active;
+          }
         report.linear_iterations +=
           problem.solve_with_active_set(active, u, exact ? 0. : inexact_tolerance);
         ++report.linear_solves;
@@ -82,20 +99,6 @@ namespace Signorini
         for (unsigned int i = 0; i < m; ++i)
           next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
 
-        if (std::getenv("SIGNORINI_DEBUG"))
-          {
-            unsigned int n_next = 0, n_now = 0, entering = 0, leaving = 0;
-            for (unsigned int i = 0; i < m; ++i)
-              {
-                n_next += next[i];
-                n_now += active[i];
-                entering += (next[i] && !active[i]);
-                leaving += (!next[i] && active[i]);
-              }
-            std::cout << "      it " << report.iterations << (exact ? " exact" : " inexact")
-                      << " |A| " << n_now << " -> " << n_next << " (+" << entering
-                      << " -" << leaving << ")" << std::endl;
-          }
         if (next == active)
           {
             if (exact)

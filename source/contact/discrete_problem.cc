@@ -11,7 +11,7 @@ namespace Signorini
     const AffineConstraints<double> &hanging_node_constraints,
     const ContactBoundary<dim> &     boundary,
     const ContactCondition<dim> &    condition,
-    const ElasticitySolver &         linear_solver)
+    ElasticitySolver &               linear_solver)
     : stiffness_matrix(stiffness)
     , load_vector(load)
     , base_constraints(constraints)
@@ -77,6 +77,22 @@ namespace Signorini
                       AffineConstraints<double>::no_conflicts_allowed);
     constraints.close();
     return linear_solver.solve(constraints, load_vector, u, relative_tolerance);
+  }
+
+
+
+  template <int dim>
+  void
+  DiscreteContactProblem<dim>::update_preconditioner(
+    const std::vector<bool> &active) const
+  {
+    const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+    const unsigned int c_star     = contact_boundary.constrained_component();
+    std::vector<types::global_dof_index> dofs;
+    for (unsigned int i = 0; i < active.size(); ++i)
+      if (active[i])
+        dofs.push_back(contact_boundary.node(multiplier_nodes[i]).dofs[c_star]);
+    linear_solver.update_preconditioner(dofs);
   }
 
 

@@ -15,7 +15,7 @@ namespace Signorini
                       "below this fraction of max |d|.");
     prm.declare_entry("Maximum columns", "100000", Patterns::Integer(1),
                       "Limit on the columns of the dual operator formed (one "
-                      "elasticity solve each).");
+                      "elasticity solve each); reaching it stops unconverged.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -50,7 +50,8 @@ namespace Signorini
   typename ContactSolver<dim>::Report
   FrankWolfeSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
                                LA::Vector &                       u,
-                               Vector<double> &                   y)
+                               Vector<double> &                   y,
+                               const std::vector<bool> & /*initial_active*/)
   {
     typename ContactSolver<dim>::Report report;
     const unsigned int                  m = problem.n_constraints();
@@ -71,20 +72,19 @@ namespace Signorini
     const double scale = std::max(max_norm(d), 1e-300);
 
     std::map<unsigned int, Vector<double>> columns; // S e_i
-    const auto column = [&](const unsigned int i) -> const Vector<double> & {
+    // S e_i, formed on first use; nullptr once "Maximum columns" is reached
+    const auto column = [&](const unsigned int i) -> const Vector<double> * {
       auto it = columns.find(i);
       if (it == columns.end())
         {
           if (columns.size() >= max_columns)
-            throw std::runtime_error(
-              "Frank-Wolfe needs more than Contact/Frank-Wolfe/Maximum "
-              "columns = " + std::to_string(max_columns) + " dual columns");
+            return nullptr;
           Vector<double> s;
           report.linear_iterations += problem.dual_operator_column(i, s);
           ++report.linear_solves;
           it = columns.emplace(i, std::move(s)).first;
         }
-      return it->second;
+      return &it->second;
     };
 
     for (report.iterations = 0; report.iterations < max_iterations;
@@ -120,14 +120,17 @@ namespace Signorini
 
         if (ray_rate >= away_rate && ray_rate >= apex_rate)
           {
-            const Vector<double> &s = column(ray);
+            const Vector<double> *column_ray = column(ray);
+            if (column_ray == nullptr)
+              break; // capped: report the residual reached
+            const Vector<double> &s = *column_ray;
             const double          t = -g[ray] / s[ray];
             y[ray] += t;
             g.add(t, s);
           }
         else if (away_rate >= apex_rate)
           {
-            const Vector<double> &s = column(away);
+            const Vector<double> &s = *column(away); // formed when it entered
             double                t = g[away] / s[away];
             if (t >= y[away])
               {

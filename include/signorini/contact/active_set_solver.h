@@ -18,6 +18,13 @@ namespace Signorini
    * residual. It stops when the active set repeats; the last solve is done
    * to the full linear tolerance, earlier ones are inexact (Newton on a
    * piecewise linear system only needs the right active set).
+   *
+   * The preconditioner of the elasticity solves is rebuilt for the current
+   * active set when it has drifted from the one it was built for by more
+   * than "Preconditioner update fraction" of the rows, so that late
+   * iterations, which move the active set by a node or two, cost little
+   * more than one unconstrained solve. A good initial active set (from the
+   * previous mesh) cuts the number of iterations.
    */
   template <int dim>
   class ActiveSetSolver : public ContactSolver<dim>
@@ -35,11 +42,14 @@ namespace Signorini
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector &                       u,
-          Vector<double> &                   y) override;
+          Vector<double> &                   y,
+          const std::vector<bool> &          initial_active = {}) override;
 
     unsigned int max_iterations = 100;
     /// CG tolerance while the active set still changes.
     double inexact_tolerance = 1e-6;
+    /// Rebuild the preconditioner when this fraction of rows changed.
+    double preconditioner_update_fraction = 0.02;
   };
 } // namespace Signorini
 

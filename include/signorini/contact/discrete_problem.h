@@ -36,7 +36,7 @@ namespace Signorini
                            const AffineConstraints<double> &hanging_node_constraints,
                            const ContactBoundary<dim> &     boundary,
                            const ContactCondition<dim> &    condition,
-                           const ElasticitySolver &         linear_solver);
+                           ElasticitySolver &               linear_solver);
 
     unsigned int
     n_constraints() const;
@@ -60,6 +60,14 @@ namespace Signorini
     solve_with_active_set(const std::vector<bool> &active,
                           LA::Vector &             u,
                           const double             relative_tolerance = 0.) const;
+
+    /**
+     * Tune the linear solver's preconditioner to the active set @p active
+     * (see ElasticitySolver::update_preconditioner()); an all-false set
+     * restores the base preconditioner.
+     */
+    void
+    update_preconditioner(const std::vector<bool> &active) const;
 
     /// Solve K u = F - B^T y under the base constraints.
     unsigned int
@@ -113,7 +121,7 @@ namespace Signorini
     const AffineConstraints<double> &hanging_node_constraints;
     const ContactBoundary<dim> &     contact_boundary;
     const ContactCondition<dim> &    contact_condition;
-    const ElasticitySolver &         linear_solver;
+    ElasticitySolver &               linear_solver;
   };
 } // namespace Signorini
 

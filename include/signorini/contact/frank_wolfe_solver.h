@@ -26,7 +26,10 @@ namespace Signorini
    * Only the columns of S of rows that become active are formed, one
    * elasticity solve each (cached); g is updated from them. The iteration
    * stops when the KKT residual max(-min g, max_{y_j>0} |g_j|) is below
-   * "Tolerance" times the scale of d.
+   * "Tolerance" times the scale of d, or unconverged (with the residual
+   * reached in the report) at "Maximum iterations" or when a new column
+   * would exceed "Maximum columns". It starts from y = 0 and does not use an
+   * initial active set.
    */
   template <int dim>
   class FrankWolfeSolver : public ContactSolver<dim>
@@ -44,11 +47,12 @@ namespace Signorini
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector &                       u,
-          Vector<double> &                   y) override;
+          Vector<double> &                   y,
+          const std::vector<bool> &          initial_active = {}) override;
 
     unsigned int max_iterations = 1000000;
     double       tolerance      = 1e-12;
-    /// Stop with an error after this many columns of S (elasticity solves).
+    /// Stop (unconverged) rather than form more columns of S than this.
     unsigned int max_columns = 100000;
   };
 } // namespace Signorini

@@ -43,11 +43,16 @@ namespace Signorini
     virtual std::string
     name() const = 0;
 
-    /// @p u holds the initial guess on entry.
+    /**
+     * @p u holds the initial guess on entry; @p initial_active, if not
+     * empty, a guess of the active set (one flag per constraint row), e.g.
+     * from the previous mesh.
+     */
     virtual Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector &                       u,
-          Vector<double> &                   y) = 0;
+          Vector<double> &                   y,
+          const std::vector<bool> &          initial_active = {}) = 0;
   };
 
   template <int dim>
