@@ -11,7 +11,7 @@ namespace Signorini
       {
         const int id = Utilities::string_to_int(entry);
         if (id < 0 || static_cast<types::boundary_id>(id) >=
-                          numbers::internal_face_boundary_id)
+                        numbers::internal_face_boundary_id)
           throw InputError(name + ": invalid boundary id <" + entry + ">");
         ids.insert(static_cast<types::boundary_id>(id));
       }
@@ -29,12 +29,16 @@ namespace Signorini
       for (unsigned int p = 1; p <= max_dirichlet_parts; ++p)
         {
           prm.enter_subsection("Dirichlet " + std::to_string(p));
-          prm.declare_entry("Boundary ids", "",
+          prm.declare_entry("Boundary ids",
+                            "",
                             Patterns::List(Patterns::Integer(0)),
                             "Boundary ids where the displacement is "
                             "prescribed (empty: part unused).");
-          prm.declare_entry("Components", dim == 2 ? "x, y" : "x, y, z",
-                            Patterns::List(Patterns::Selection("x|y|z"), 1, dim),
+          prm.declare_entry("Components",
+                            dim == 2 ? "x, y" : "x, y, z",
+                            Patterns::List(Patterns::Selection("x|y|z"),
+                                           1,
+                                           dim),
                             "Displacement components prescribed there "
                             "(e.g. 'y' for a roller).");
           Functions::ParsedFunction<dim>::declare_parameters(prm, dim);
@@ -43,7 +47,8 @@ namespace Signorini
       for (unsigned int p = 1; p <= max_traction_parts; ++p)
         {
           prm.enter_subsection("Traction " + std::to_string(p));
-          prm.declare_entry("Boundary ids", "",
+          prm.declare_entry("Boundary ids",
+                            "",
                             Patterns::List(Patterns::Integer(0)),
                             "Boundary ids loaded by the traction F_d "
                             "(force per unit length; empty: part unused).");
@@ -72,11 +77,12 @@ namespace Signorini
           const std::string name = "Dirichlet " + std::to_string(p);
           prm.enter_subsection(name);
           DirichletPart part;
-          part.ids = parse_boundary_ids(prm.get("Boundary ids"),
-                                        "Boundary conditions/" + name +
-                                          "/Boundary ids");
+          part.ids =
+            parse_boundary_ids(prm.get("Boundary ids"),
+                               "Boundary conditions/" + name + "/Boundary ids");
           std::vector<bool> mask(dim, false);
-          for (const auto &c : Utilities::split_string_list(prm.get("Components")))
+          for (const auto &c :
+               Utilities::split_string_list(prm.get("Components")))
             {
               const unsigned int component = c[0] - 'x';
               if (component >= dim)
@@ -96,16 +102,18 @@ namespace Signorini
           const std::string name = "Traction " + std::to_string(p);
           prm.enter_subsection(name);
           TractionPart part;
-          part.ids      = parse_boundary_ids(prm.get("Boundary ids"),
-                                        "Boundary conditions/" + name +
-                                          "/Boundary ids");
-          part.traction = parse_function<dim>(prm, dim, "Boundary conditions/" + name);
+          part.ids =
+            parse_boundary_ids(prm.get("Boundary ids"),
+                               "Boundary conditions/" + name + "/Boundary ids");
+          part.traction =
+            parse_function<dim>(prm, dim, "Boundary conditions/" + name);
           prm.leave_subsection();
           if (!part.ids.empty())
             tractions.emplace_back(std::move(part));
         }
       prm.enter_subsection("Body force");
-      body_force = parse_function<dim>(prm, dim, "Boundary conditions/Body force");
+      body_force =
+        parse_function<dim>(prm, dim, "Boundary conditions/Body force");
       prm.leave_subsection();
     }
     prm.leave_subsection();

@@ -1,11 +1,8 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/point.h>
-
 #include <deal.II/lac/vector.h>
-
-#include <signorini/input_error.h>
-
 #include <iostream>
+#include <signorini/input_error.h>
 #include <sstream>
 
 namespace Signorini
@@ -30,7 +27,8 @@ namespace Signorini
     while (std::getline(in, line))
       {
         const auto begin = line.find_first_not_of(" \t");
-        if (begin == std::string::npos || line.find("-----") != std::string::npos)
+        if (begin == std::string::npos ||
+            line.find("-----") != std::string::npos)
           continue;
         line = line.substr(begin);
         if (line.rfind("Additional information:", 0) == 0)
@@ -56,7 +54,9 @@ namespace Signorini
   {
     try
       {
-        prm.parse_input(filename, "", /*skip_undefined=*/false,
+        prm.parse_input(filename,
+                        "",
+                        /*skip_undefined=*/false,
                         /*assert_mandatory_entries_are_found=*/false);
       }
     catch (const ExceptionBase &exc)
@@ -77,20 +77,23 @@ namespace Signorini
 
   template <int dim>
   std::unique_ptr<Functions::ParsedFunction<dim>>
-  parse_function(ParameterHandler & prm,
+  parse_function(ParameterHandler  &prm,
                  const unsigned int n_components,
                  const std::string &description)
   {
-    auto function = std::make_unique<Functions::ParsedFunction<dim>>(n_components);
+    auto function =
+      std::make_unique<Functions::ParsedFunction<dim>>(n_components);
     // deal.II echoes muparser's diagnostics on std::cerr before throwing;
     // keep them out of the user's terminal, the exception says the same.
-    std::ostringstream muparser_diagnostics;
-    std::streambuf *const cerr_buffer = std::cerr.rdbuf(muparser_diagnostics.rdbuf());
+    std::ostringstream    muparser_diagnostics;
+    std::streambuf *const cerr_buffer =
+      std::cerr.rdbuf(muparser_diagnostics.rdbuf());
     try
       {
         function->parse_parameters(prm);
         Vector<double> values(n_components);
-        function->vector_value(Point<dim>(), values); // forces muparser to parse
+        function->vector_value(Point<dim>(),
+                               values); // forces muparser to parse
         std::cerr.rdbuf(cerr_buffer);
       }
     catch (const ExceptionBase &exc)
@@ -99,20 +102,26 @@ namespace Signorini
         std::ostringstream text;
         exc.print_info(text);
         throw InputError(description + ": invalid function (expected " +
-                         std::to_string(n_components) + " component(s), "
-                         "separated by ';'): " + one_line_message(text.str()));
+                         std::to_string(n_components) +
+                         " component(s), "
+                         "separated by ';'): " +
+                         one_line_message(text.str()));
       }
     catch (const std::exception &exc)
       {
         std::cerr.rdbuf(cerr_buffer);
-        throw InputError(description + ": invalid function: " +
-                         one_line_message(exc.what()));
+        throw InputError(description +
+                         ": invalid function: " + one_line_message(exc.what()));
       }
     return function;
   }
 
   template std::unique_ptr<Functions::ParsedFunction<2>>
-  parse_function<2>(ParameterHandler &, const unsigned int, const std::string &);
+  parse_function<2>(ParameterHandler &,
+                    const unsigned int,
+                    const std::string &);
   template std::unique_ptr<Functions::ParsedFunction<3>>
-  parse_function<3>(ParameterHandler &, const unsigned int, const std::string &);
+  parse_function<3>(ParameterHandler &,
+                    const unsigned int,
+                    const std::string &);
 } // namespace Signorini

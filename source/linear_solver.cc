@@ -1,6 +1,5 @@
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
-
 #include <signorini/input_error.h>
 #include <signorini/linear_solver.h>
 
@@ -75,7 +74,7 @@ namespace Signorini
       }
 
     private:
-      const Inner &      inner;
+      const Inner       &inner;
       const Lines        lines;
       mutable LA::Vector restricted;
     };
@@ -88,21 +87,31 @@ namespace Signorini
   {
     prm.enter_subsection("Linear solver");
     {
-      prm.declare_entry("Type", "automatic",
+      prm.declare_entry("Type",
+                        "automatic",
                         Patterns::Selection("automatic|direct|AMG-CG"),
                         "Preconditioner of the CG solves: sparse direct "
                         "factorisation, Trilinos ML AMG, or chosen by the "
                         "number of DoFs ('Direct solver limit').");
-      prm.declare_entry("Direct solver limit", "50000", Patterns::Integer(0),
+      prm.declare_entry("Direct solver limit",
+                        "50000",
+                        Patterns::Integer(0),
                         "With Type = automatic: largest number of DoFs for "
                         "which the direct factorisation is used.");
-      prm.declare_entry("Direct solver package", "Amesos_Klu",
-                        Patterns::Selection("Amesos_Klu|Amesos_Umfpack|Amesos_Mumps|Amesos_Lapack"),
-                        "Trilinos Amesos package of the direct factorisation.");
-      prm.declare_entry("Relative tolerance", "1e-10", Patterns::Double(1e-16, 1e-2),
+      prm.declare_entry(
+        "Direct solver package",
+        "Amesos_Klu",
+        Patterns::Selection(
+          "Amesos_Klu|Amesos_Umfpack|Amesos_Mumps|Amesos_Lapack"),
+        "Trilinos Amesos package of the direct factorisation.");
+      prm.declare_entry("Relative tolerance",
+                        "1e-10",
+                        Patterns::Double(1e-16, 1e-2),
                         "CG stops when the residual is below this fraction of "
                         "the right-hand side.");
-      prm.declare_entry("Maximum iterations", "5000", Patterns::Integer(1),
+      prm.declare_entry("Maximum iterations",
+                        "5000",
+                        Patterns::Integer(1),
                         "CG iteration limit per solve.");
     }
     prm.leave_subsection();
@@ -128,16 +137,15 @@ namespace Signorini
 
   void
   ElasticitySolver::initialize(
-    const LA::SparseMatrix &               stiffness,
-    const LA::SparseMatrix &               condensed_stiffness,
+    const LA::SparseMatrix               &stiffness,
+    const LA::SparseMatrix               &condensed_stiffness,
     const std::vector<std::vector<bool>> &constant_modes)
   {
     stiffness_matrix  = &stiffness;
     condensed_matrix  = &condensed_stiffness;
     translation_modes = constant_modes;
-    use_direct =
-      (type == "direct") ||
-      (type == "automatic" && stiffness.m() <= direct_solver_limit);
+    use_direct        = (type == "direct") ||
+                 (type == "automatic" && stiffness.m() <= direct_solver_limit);
     current_eliminated_dofs.clear();
     build_preconditioner(condensed_stiffness);
   }
@@ -181,9 +189,10 @@ namespace Signorini
     if (use_direct)
       {
         direct_control = SolverControl(1, 0., false, false);
-        direct = std::make_unique<TrilinosWrappers::SolverDirect>(
+        direct         = std::make_unique<TrilinosWrappers::SolverDirect>(
           direct_control,
-          TrilinosWrappers::SolverDirect::AdditionalData(false, direct_package));
+          TrilinosWrappers::SolverDirect::AdditionalData(false,
+                                                         direct_package));
         try
           {
             direct->initialize(matrix);
@@ -192,9 +201,9 @@ namespace Signorini
           {
             std::ostringstream text;
             exc.print_info(text);
-            throw InputError("Linear solver/Direct solver package = " +
-                             direct_package + ": " +
-                             one_line_message(text.str()));
+            throw InputError(
+              "Linear solver/Direct solver package = " + direct_package + ": " +
+              one_line_message(text.str()));
           }
       }
     else
@@ -214,8 +223,8 @@ namespace Signorini
 
   unsigned int
   ElasticitySolver::solve(const AffineConstraints<double> &constraints,
-                          const LA::Vector &               load,
-                          LA::Vector &                     solution,
+                          const LA::Vector                &load,
+                          LA::Vector                      &solution,
                           const double                     tolerance_) const
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
@@ -243,7 +252,7 @@ namespace Signorini
     solution.compress(VectorOperation::insert);
 
     const ConstrainedOperator op(*stiffness_matrix, lines);
-    const double tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
+    const double  tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
     SolverControl control(max_iterations, tol * rhs.l2_norm(), false, false);
     SolverCG<LA::Vector> cg(control);
     try

@@ -9,11 +9,16 @@ namespace Signorini
   {
     prm.enter_subsection("Material");
     {
-      prm.declare_entry("Young modulus", "1", Patterns::Double(),
+      prm.declare_entry("Young modulus",
+                        "1",
+                        Patterns::Double(),
                         "Young's modulus E (stress units), must be > 0.");
-      prm.declare_entry("Poisson ratio", "0.3", Patterns::Double(),
+      prm.declare_entry("Poisson ratio",
+                        "0.3",
+                        Patterns::Double(),
                         "Poisson's ratio nu, in (-1, 0.5).");
-      prm.declare_entry("Plane state", "plane strain",
+      prm.declare_entry("Plane state",
+                        "plane strain",
                         Patterns::Selection("plane strain|plane stress"),
                         "2D reduction of the 3D law.");
     }
@@ -37,10 +42,10 @@ namespace Signorini
       throw InputError("Material/Young modulus = " +
                        std::to_string(young_modulus) + " must be > 0");
     if (!(poisson_ratio > -1. && poisson_ratio < 0.5))
-      throw InputError("Material/Poisson ratio = " +
-                       std::to_string(poisson_ratio) +
-                       " must lie in (-1, 0.5): the material would not be "
-                       "stable (nu = 0.5 is incompressible, which P1 locks)");
+      throw InputError(
+        "Material/Poisson ratio = " + std::to_string(poisson_ratio) +
+        " must lie in (-1, 0.5): the material would not be "
+        "stable (nu = 0.5 is incompressible, which P1 locks)");
   }
 
 

@@ -1,10 +1,8 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
-
+#include <fstream>
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
-
-#include <fstream>
 #include <sstream>
 
 namespace Signorini
@@ -15,20 +13,27 @@ namespace Signorini
   {
     prm.enter_subsection("Mesh");
     {
-      prm.declare_entry("Source", "block", Patterns::Selection("block|file"),
+      prm.declare_entry("Source",
+                        "block",
+                        Patterns::Selection("block|file"),
                         "'block': the unit square of the paper's example, "
                         "generated; 'file': read 'File name'.");
-      prm.declare_entry("File name", "", Patterns::Anything(),
+      prm.declare_entry("File name",
+                        "",
+                        Patterns::Anything(),
                         "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles; "
                         "physical curve tags are boundary ids (do not use "
                         "0); a relative path is taken from the directory of "
                         "the parameter file.");
-      prm.declare_entry("Block subdivisions", "4, 3",
+      prm.declare_entry("Block subdivisions",
+                        "4, 3",
                         Patterns::List(Patterns::Integer(1), dim, dim),
                         "Rectangles per direction of the generated block; "
                         "each is cut into 8 triangles (4 x 3 gives the "
                         "paper's 96).");
-      prm.declare_entry("Initial refinements", "0", Patterns::Integer(0, 12),
+      prm.declare_entry("Initial refinements",
+                        "0",
+                        Patterns::Integer(0, 12),
                         "Uniform refinements of the initial mesh (each "
                         "multiplies the number of triangles by 4).");
     }
@@ -72,7 +77,7 @@ namespace Signorini
     template <int dim>
     void
     create_block(const std::vector<unsigned int> &subdivisions,
-                 Triangulation<dim> &             triangulation)
+                 Triangulation<dim>              &triangulation)
     {
       Assert(dim == 2, ExcNotImplemented());
       Triangulation<dim> quads;
@@ -134,8 +139,8 @@ namespace Signorini
           {
             std::ostringstream text;
             exc.print_info(text);
-            throw InputError("Mesh/File name: cannot read mesh file <" +
-                             path + ">: " + one_line_message(text.str()));
+            throw InputError("Mesh/File name: cannot read mesh file <" + path +
+                             ">: " + one_line_message(text.str()));
           }
         if (triangulation.n_active_cells() == 0 ||
             !triangulation.all_reference_cells_are_simplex())

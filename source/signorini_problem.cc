@@ -1,26 +1,18 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
-
 #include <deal.II/dofs/dof_tools.h>
-
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
-
-
-
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
-
-#include <signorini/input_error.h>
-#include <signorini/signorini_problem.h>
-#include <signorini/stress_postprocessor.h>
-
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
+#include <signorini/stress_postprocessor.h>
 
 namespace Signorini
 {
@@ -28,23 +20,33 @@ namespace Signorini
   void
   SignoriniProblem<dim>::declare_parameters(ParameterHandler &prm)
   {
-    prm.declare_entry("Output directory", "output", Patterns::DirectoryName(),
+    prm.declare_entry("Output directory",
+                      "output",
+                      Patterns::DirectoryName(),
                       "Where the VTU/PVD files, the CSV tables and the "
                       "parameters used are written (created if needed).");
-    prm.declare_entry("Number of cycles", "1", Patterns::Integer(1, 12),
+    prm.declare_entry("Number of cycles",
+                      "1",
+                      Patterns::Integer(1, 12),
                       "Computations on successively uniformly refined meshes.");
     prm.enter_subsection("Output");
     {
-      prm.declare_entry("Write vtu", "true", Patterns::Bool(),
+      prm.declare_entry("Write vtu",
+                        "true",
+                        Patterns::Bool(),
                         "Write solution-CC.vtu and solution.pvd for ParaView.");
-      prm.declare_entry("Print timing", "true", Patterns::Bool(),
+      prm.declare_entry("Print timing",
+                        "true",
+                        Patterns::Bool(),
                         "Print the TimerOutput summary and the solve time on "
                         "screen (off in regression tests: times vary).");
     }
     prm.leave_subsection();
     prm.enter_subsection("Exact solution");
     {
-      prm.declare_entry("Enable", "false", Patterns::Bool(),
+      prm.declare_entry("Enable",
+                        "false",
+                        Patterns::Bool(),
                         "Compare with a known displacement (manufactured "
                         "solution): adds energy_error to the statistics.");
       Functions::ParsedFunction<dim>::declare_parameters(prm, dim);
@@ -52,7 +54,8 @@ namespace Signorini
     prm.leave_subsection();
 
     prm.enter_subsection("Contact");
-    prm.declare_entry("Initial active set from previous cycle", "true",
+    prm.declare_entry("Initial active set from previous cycle",
+                      "true",
                       Patterns::Bool(),
                       "Start the active set method of a cycle from the "
                       "active set of the previous (coarser) cycle.");
@@ -70,7 +73,7 @@ namespace Signorini
 
 
   template <int dim>
-  SignoriniProblem<dim>::SignoriniProblem(ParameterHandler & prm,
+  SignoriniProblem<dim>::SignoriniProblem(ParameterHandler  &prm,
                                           const std::string &input_directory)
     : prm(prm)
     , fe(FE_SimplexP<dim>(1), dim)
@@ -95,7 +98,8 @@ namespace Signorini
     boundary_conditions.parse_parameters(prm);
     contact_boundary.parse_parameters(prm);
     prm.enter_subsection("Contact");
-    guess_from_previous_cycle = prm.get_bool("Initial active set from previous cycle");
+    guess_from_previous_cycle =
+      prm.get_bool("Initial active set from previous cycle");
     prm.leave_subsection();
     contact_condition = create_contact_condition<dim>(prm);
     contact_solver    = create_contact_solver<dim>(prm);
@@ -122,16 +126,18 @@ namespace Signorini
       if (face->at_boundary())
         present.insert(face->boundary_id());
     const auto check = [&](const std::set<types::boundary_id> &ids,
-                           const std::string &                 where) {
+                           const std::string                  &where) {
       for (const auto id : ids)
         if (present.count(id) == 0)
           throw InputError(where + ": boundary id " + std::to_string(id) +
                            " does not exist in the mesh");
     };
     for (unsigned int p = 0; p < boundary_conditions.dirichlet.size(); ++p)
-      check(boundary_conditions.dirichlet[p].ids, "Boundary conditions/Dirichlet");
+      check(boundary_conditions.dirichlet[p].ids,
+            "Boundary conditions/Dirichlet");
     for (unsigned int p = 0; p < boundary_conditions.tractions.size(); ++p)
-      check(boundary_conditions.tractions[p].ids, "Boundary conditions/Traction");
+      check(boundary_conditions.tractions[p].ids,
+            "Boundary conditions/Traction");
     check(contact_boundary.boundary_ids(), "Contact/Boundary ids");
   }
 
@@ -148,7 +154,8 @@ namespace Signorini
     scalar_dof_handler.distribute_dofs(scalar_fe);
 
     hanging_node_constraints.clear();
-    DoFTools::make_hanging_node_constraints(dof_handler, hanging_node_constraints);
+    DoFTools::make_hanging_node_constraints(dof_handler,
+                                            hanging_node_constraints);
     hanging_node_constraints.close();
 
     dirichlet_constraints.clear();
@@ -156,12 +163,17 @@ namespace Signorini
     for (const auto &part : boundary_conditions.dirichlet)
       for (const auto id : part.ids)
         {
-          VectorTools::interpolate_boundary_values(mapping, dof_handler, id,
+          VectorTools::interpolate_boundary_values(mapping,
+                                                   dof_handler,
+                                                   id,
                                                    *part.displacement,
                                                    dirichlet_constraints,
                                                    part.mask);
-          VectorTools::interpolate_boundary_values(mapping, dof_handler, id,
-                                                   Functions::ZeroFunction<dim>(dim),
+          VectorTools::interpolate_boundary_values(mapping,
+                                                   dof_handler,
+                                                   id,
+                                                   Functions::ZeroFunction<dim>(
+                                                     dim),
                                                    homogeneous_dirichlet,
                                                    part.mask);
         }
@@ -177,13 +189,17 @@ namespace Signorini
     homogeneous_constraints.merge(homogeneous_dirichlet);
     homogeneous_constraints.close();
 
-    contact_boundary.reinit(mapping, dof_handler, dirichlet_constraints,
+    contact_boundary.reinit(mapping,
+                            dof_handler,
+                            dirichlet_constraints,
                             hanging_node_constraints);
     contact_condition->reinit(contact_boundary);
 
-    const IndexSet owned = dof_handler.locally_owned_dofs();
+    const IndexSet         owned = dof_handler.locally_owned_dofs();
     DynamicSparsityPattern dsp(dof_handler.n_dofs());
-    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints,
+    DoFTools::make_sparsity_pattern(dof_handler,
+                                    dsp,
+                                    constraints,
                                     /*keep_constrained_dofs=*/true);
     stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
     condensed_stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
@@ -197,19 +213,23 @@ namespace Signorini
   void
   SignoriniProblem<dim>::assemble_system()
   {
-    TimerOutput::Scope t(timer, "assembly");
-    const QGaussSimplex<dim>     quadrature(3);
-    const QGaussSimplex<dim - 1> face_quadrature(3);
-    FEValues<dim>     fe_values(mapping, fe, quadrature,
+    TimerOutput::Scope               t(timer, "assembly");
+    const QGaussSimplex<dim>         quadrature(3);
+    const QGaussSimplex<dim - 1>     face_quadrature(3);
+    FEValues<dim>                    fe_values(mapping,
+                            fe,
+                            quadrature,
                             update_values | update_gradients |
                               update_quadrature_points | update_JxW_values);
-    FEFaceValues<dim> fe_face_values(mapping, fe, face_quadrature,
+    FEFaceValues<dim>                fe_face_values(mapping,
+                                     fe,
+                                     face_quadrature,
                                      update_values | update_quadrature_points |
                                        update_JxW_values);
     const FEValuesExtractors::Vector displacement(0);
-    const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(dofs_per_cell, dofs_per_cell);
-    Vector<double>     cell_rhs(dofs_per_cell);
+    const unsigned int               dofs_per_cell = fe.n_dofs_per_cell();
+    FullMatrix<double>               cell_matrix(dofs_per_cell, dofs_per_cell);
+    Vector<double>                   cell_rhs(dofs_per_cell);
     std::vector<types::global_dof_index> dof_indices(dofs_per_cell);
     std::vector<SymmetricTensor<2, dim>> eps(dofs_per_cell);
     std::vector<Vector<double>>          force_values(quadrature.size(),
@@ -237,8 +257,8 @@ namespace Signorini
                 for (unsigned int j = 0; j < dofs_per_cell; ++j)
                   cell_matrix(i, j) += (sigma_i * eps[j]) * fe_values.JxW(q);
                 const unsigned int c = fe.system_to_component_index(i).first;
-                cell_rhs(i) += force_values[q][c] * fe_values.shape_value(i, q) *
-                               fe_values.JxW(q);
+                cell_rhs(i) += force_values[q][c] *
+                               fe_values.shape_value(i, q) * fe_values.JxW(q);
               }
           }
         for (const unsigned int f : cell->face_indices())
@@ -253,7 +273,8 @@ namespace Signorini
                        fe_face_values.quadrature_point_indices())
                     for (unsigned int i = 0; i < dofs_per_cell; ++i)
                       {
-                        const unsigned int c = fe.system_to_component_index(i).first;
+                        const unsigned int c =
+                          fe.system_to_component_index(i).first;
                         cell_rhs(i) += traction_values[q][c] *
                                        fe_face_values.shape_value(i, q) *
                                        fe_face_values.JxW(q);
@@ -262,7 +283,8 @@ namespace Signorini
         cell->get_dof_indices(dof_indices);
         stiffness.add(dof_indices, cell_matrix);
         load.add(dof_indices, cell_rhs);
-        constraints.distribute_local_to_global(cell_matrix, dof_indices,
+        constraints.distribute_local_to_global(cell_matrix,
+                                               dof_indices,
                                                condensed_stiffness);
       }
     stiffness.compress(VectorOperation::add);
@@ -278,32 +300,37 @@ namespace Signorini
   {
     Timer setup_timer;
     {
-      TimerOutput::Scope t(timer, "linear solver setup");
+      TimerOutput::Scope             t(timer, "linear solver setup");
       std::vector<std::vector<bool>> constant_modes;
-      DoFTools::extract_constant_modes(dof_handler, ComponentMask(dim, true),
+      DoFTools::extract_constant_modes(dof_handler,
+                                       ComponentMask(dim, true),
                                        constant_modes);
       linear_solver.initialize(stiffness, condensed_stiffness, constant_modes);
     }
     setup_timer.stop();
 
-    const DiscreteContactProblem<dim> problem(stiffness, load, constraints,
+    const DiscreteContactProblem<dim>   problem(stiffness,
+                                              load,
+                                              constraints,
                                               homogeneous_constraints,
                                               hanging_node_constraints,
                                               contact_boundary,
                                               *contact_condition,
                                               linear_solver);
-    Timer solve_timer;
+    Timer                               solve_timer;
     typename ContactSolver<dim>::Report report;
     {
       TimerOutput::Scope t(timer, "contact solve");
       solution = 0.;
-      report   = contact_solver->solve(problem, solution, dual_solution,
+      report   = contact_solver->solve(problem,
+                                     solution,
+                                     dual_solution,
                                      initial_active_set_guess());
     }
     solve_timer.stop();
     last_solve_converged = report.converged;
 
-    unsigned int n_active = 0;
+    unsigned int n_active  = 0;
     const double threshold = 1e-8 * max_norm(dual_solution);
     for (const double y : dual_solution)
       n_active += (y > threshold) ? 1 : 0;
@@ -330,10 +357,13 @@ namespace Signorini
             dof_component[dofs[i]] = fe.system_to_component_index(i).first;
         }
     }
-    const SolutionChecks checks = check_solution(problem, solution, dual_solution,
+    const SolutionChecks checks = check_solution(problem,
+                                                 solution,
+                                                 dual_solution,
                                                  dirichlet_constraints,
-                                                 support_points, dof_component);
-    const double energy = problem.energy(solution);
+                                                 support_points,
+                                                 dof_component);
+    const double         energy = problem.energy(solution);
 
     std::cout << "   " << contact_condition->name() << " condition, "
               << contact_solver->name() << ": " << report.iterations
@@ -357,7 +387,8 @@ namespace Signorini
     statistics_table.add_value("cycle", cycle);
     statistics_table.add_value("cells", triangulation.n_active_cells());
     statistics_table.add_value("dofs", dof_handler.n_dofs());
-    statistics_table.add_value("contact_nodes", contact_condition->n_constraints());
+    statistics_table.add_value("contact_nodes",
+                               contact_condition->n_constraints());
     statistics_table.add_value("active_nodes", n_active);
     statistics_table.add_value("condition", contact_condition->name());
     statistics_table.add_value("solver", contact_solver->name());
@@ -388,9 +419,9 @@ namespace Signorini
       return {};
     // A node of the new mesh is either a node of the previous one (keep its
     // state) or lies between two of them (active if both were).
-    const auto &       nodes = contact_boundary.multiplier_nodes();
-    std::vector<bool>  guess(nodes.size(), false);
-    Point<dim> lower = previous_contact_state[0].first, upper = lower;
+    const auto       &nodes = contact_boundary.multiplier_nodes();
+    std::vector<bool> guess(nodes.size(), false);
+    Point<dim>        lower = previous_contact_state[0].first, upper = lower;
     for (const auto &state : previous_contact_state)
       for (unsigned int d = 0; d < dim; ++d)
         {
@@ -404,12 +435,15 @@ namespace Signorini
         std::vector<std::pair<double, bool>> by_distance;
         for (const auto &[position, active] : previous_contact_state)
           by_distance.emplace_back(x.distance(position), active);
-        const unsigned int n_nearest = std::min<std::size_t>(2, by_distance.size());
-        std::partial_sort(by_distance.begin(), by_distance.begin() + n_nearest,
+        const unsigned int n_nearest =
+          std::min<std::size_t>(2, by_distance.size());
+        std::partial_sort(by_distance.begin(),
+                          by_distance.begin() + n_nearest,
                           by_distance.end());
-        guess[i] = (by_distance[0].first < tolerance) ?
-                     by_distance[0].second :
-                     (by_distance[0].second && by_distance[n_nearest - 1].second);
+        guess[i] =
+          (by_distance[0].first < tolerance) ?
+            by_distance[0].second :
+            (by_distance[0].second && by_distance[n_nearest - 1].second);
       }
     return guess;
   }
@@ -421,15 +455,17 @@ namespace Signorini
   SignoriniProblem<dim>::compute_exact_error()
   {
     // ||u - u_h||_u^2 = int eps(u - u_h) : K : eps(u - u_h)
-    const QGaussSimplex<dim> quadrature(4);
-    FEValues<dim> fe_values(mapping, fe, quadrature,
+    const QGaussSimplex<dim>                 quadrature(4);
+    FEValues<dim>                            fe_values(mapping,
+                            fe,
+                            quadrature,
                             update_gradients | update_quadrature_points |
                               update_JxW_values);
-    const FEValuesExtractors::Vector          displacement(0);
-    LA::Vector                                 ghosted(solution);
-    std::vector<Tensor<2, dim>>               grad_h(quadrature.size());
-    std::vector<std::vector<Tensor<1, dim>>>  grad(quadrature.size(),
-                                                  std::vector<Tensor<1, dim>>(dim));
+    const FEValuesExtractors::Vector         displacement(0);
+    LA::Vector                               ghosted(solution);
+    std::vector<Tensor<2, dim>>              grad_h(quadrature.size());
+    std::vector<std::vector<Tensor<1, dim>>> grad(
+      quadrature.size(), std::vector<Tensor<1, dim>>(dim));
     double error_sq = 0., norm_sq = 0.;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
@@ -469,30 +505,35 @@ namespace Signorini
     std::sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) {
       const auto &pa = contact_boundary.node(a).position;
       const auto &pb = contact_boundary.node(b).position;
-      return std::lexicographical_compare(&pa[0], &pa[0] + dim, &pb[0], &pb[0] + dim);
+      return std::lexicographical_compare(&pa[0],
+                                          &pa[0] + dim,
+                                          &pb[0],
+                                          &pb[0] + dim);
     });
     std::vector<int> row_of_node(n, -1);
-    const auto &     multiplier_nodes = contact_boundary.multiplier_nodes();
+    const auto      &multiplier_nodes = contact_boundary.multiplier_nodes();
     for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
       row_of_node[multiplier_nodes[i]] = i;
 
-    const Vector<double> q_n    = contact_boundary.normal_displacements(solution);
+    const Vector<double> q_n = contact_boundary.normal_displacements(solution);
     const Vector<double> lambda = contact_condition->multiplier(dual_solution);
-    const Vector<double> forces = contact_condition->nodal_forces(dual_solution);
+    const Vector<double> forces =
+      contact_condition->nodal_forces(dual_solution);
     const double threshold = 1e-8 * max_norm(dual_solution);
 
     std::ofstream out(output_directory + "/contact-" +
                       Utilities::int_to_string(cycle, 2) + ".csv");
-    out << "x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active\n"
-        << std::setprecision(12);
+    out
+      << "x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active\n"
+      << std::setprecision(12);
     for (const unsigned int k : order)
       {
         const auto &node = contact_boundary.node(k);
         const int   i    = row_of_node[k];
         out << node.position[0] << ',' << node.position[1] << ','
             << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
-            << contact_boundary.nodal_gap()[k] << ',' << (i >= 0 ? lambda[i] : 0.)
-            << ',' << forces[k] << ','
+            << contact_boundary.nodal_gap()[k] << ','
+            << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
             << ((i >= 0 && dual_solution[i] > threshold) ? 1 : 0) << '\n';
       }
   }
@@ -518,12 +559,14 @@ namespace Signorini
       for (const auto &cell : scalar_dof_handler.active_cell_iterators())
         for (const unsigned int v : cell->vertex_indices())
           dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
-      const Vector<double> lambda = contact_condition->multiplier(dual_solution);
-      const double threshold = 1e-8 * max_norm(dual_solution);
-      const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+      const Vector<double> lambda =
+        contact_condition->multiplier(dual_solution);
+      const double threshold        = 1e-8 * max_norm(dual_solution);
+      const auto  &multiplier_nodes = contact_boundary.multiplier_nodes();
       for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
         {
-          const auto dof = dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
+          const auto dof =
+            dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
           pressure[dof] = -lambda[i];
           active[dof]   = dual_solution[i] > threshold ? 1. : 0.;
         }
@@ -532,16 +575,19 @@ namespace Signorini
     const StressPostprocessor<dim> stress(material);
     DataOut<dim>                   data_out;
     const std::vector<DataComponentInterpretation::DataComponentInterpretation>
-      vector_part(dim, DataComponentInterpretation::component_is_part_of_vector);
-    data_out.add_data_vector(dof_handler, solution,
+      vector_part(dim,
+                  DataComponentInterpretation::component_is_part_of_vector);
+    data_out.add_data_vector(dof_handler,
+                             solution,
                              std::vector<std::string>(dim, "displacement"),
                              vector_part);
     data_out.add_data_vector(dof_handler, solution, stress);
     data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
     data_out.build_patches(mapping);
-    const std::string name = "solution-" + Utilities::int_to_string(cycle, 2) + ".vtu";
-    std::ofstream     out(output_directory + "/" + name);
+    const std::string name =
+      "solution-" + Utilities::int_to_string(cycle, 2) + ".vtu";
+    std::ofstream out(output_directory + "/" + name);
     data_out.write_vtu(out);
     vtu_files.emplace_back(cycle, name);
     std::ofstream pvd(output_directory + "/solution.pvd");
@@ -590,8 +636,9 @@ namespace Signorini
           compute_exact_error();
         output_results(cycle);
         if (!last_solve_converged)
-          throw std::runtime_error("the contact solver did not converge in cycle " +
-                                   std::to_string(cycle) + " (outputs written)");
+          throw std::runtime_error(
+            "the contact solver did not converge in cycle " +
+            std::to_string(cycle) + " (outputs written)");
       }
     if (print_timing)
       timer.print_summary();

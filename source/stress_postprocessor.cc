@@ -32,7 +32,7 @@ namespace Signorini
   void
   StressPostprocessor<dim>::evaluate_vector_field(
     const DataPostprocessorInputs::Vector<dim> &inputs,
-    std::vector<Vector<double>> &               computed_quantities) const
+    std::vector<Vector<double>>                &computed_quantities) const
   {
     for (unsigned int q = 0; q < inputs.solution_gradients.size(); ++q)
       {

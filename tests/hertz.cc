@@ -1,8 +1,8 @@
 // Hertz contact of a cylinder on a rigid plane (prm/hertz.prm), both
 // discrete conditions: the computed contact half-width must be within one
-// contact element of a = sqrt(4 P R / (pi E*)), and the contact pressure -Lambda
-// within 5 % of p(x) = 2P/(pi a^2) sqrt(a^2 - x^2) in relative L2 norm over
-// the contact zone, P being the computed load per unit length.
+// contact element of a = sqrt(4 P R / (pi E*)), and the contact pressure
+// -Lambda within 5 % of p(x) = 2P/(pi a^2) sqrt(a^2 - x^2) in relative L2 norm
+// over the contact zone, P being the computed load per unit length.
 
 #include "tests.h"
 
@@ -50,7 +50,8 @@ main(int argc, char **argv)
                             {"Output directory", "output-" + condition}});
       const double P = 2. * std::abs(value(r, "contact_force"));
       const double a = std::sqrt(4. * P * R / (numbers::PI * E_star));
-      const auto nodes = read_contact_table("output-" + condition + "/contact-00.csv");
+      const auto   nodes =
+        read_contact_table("output-" + condition + "/contact-00.csv");
 
       // half-width: between the last active node and the next one
       unsigned int last = 0;
@@ -61,18 +62,21 @@ main(int argc, char **argv)
 
       // relative L2 error of the P1 pressure on (0, a)
       const auto exact = [&](const double x) {
-        return x < a ? 2. * P / (numbers::PI * a * a) * std::sqrt(a * a - x * x) : 0.;
+        return x < a ?
+                 2. * P / (numbers::PI * a * a) * std::sqrt(a * a - x * x) :
+                 0.;
       };
       double error_sq = 0., norm_sq = 0.;
       for (unsigned int k = 0; k + 1 < nodes.size() && nodes[k].x < a; ++k)
         for (unsigned int s = 0; s < 200; ++s)
           {
-            const double t  = (s + 0.5) / 200.;
-            const double x  = nodes[k].x + t * (nodes[k + 1].x - nodes[k].x);
+            const double t = (s + 0.5) / 200.;
+            const double x = nodes[k].x + t * (nodes[k + 1].x - nodes[k].x);
             if (x > a)
               break;
             const double dx = (nodes[k + 1].x - nodes[k].x) / 200.;
-            const double ph = (1 - t) * nodes[k].pressure + t * nodes[k + 1].pressure;
+            const double ph =
+              (1 - t) * nodes[k].pressure + t * nodes[k + 1].pressure;
             error_sq += (ph - exact(x)) * (ph - exact(x)) * dx;
             norm_sq += exact(x) * exact(x) * dx;
           }
@@ -82,12 +86,17 @@ main(int argc, char **argv)
               << ", a/R = " << a / R << ", computed half-width in ["
               << nodes[last].x << ", " << nodes[last + 1].x
               << "], pressure error " << std::fixed << std::setprecision(1)
-              << 100. * relative_error << " %" << std::defaultfloat << std::endl;
+              << 100. * relative_error << " %" << std::defaultfloat
+              << std::endl;
       expect_below(condition + " a/R <= 0.1", a / R, 0.1, failures);
       expect_below(condition + " |a_h - a| within one contact element",
-                   std::abs(nodes[last].x - a), element, failures);
+                   std::abs(nodes[last].x - a),
+                   element,
+                   failures);
       expect_below(condition + " relative L2 pressure error <= 5%",
-                   relative_error, 0.05, failures);
+                   relative_error,
+                   0.05,
+                   failures);
     }
   return failures == 0 ? 0 : 1;
 }

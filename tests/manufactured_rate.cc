@@ -14,17 +14,18 @@ main(int argc, char **argv)
   deallog.depth_console(0);
   deallog.depth_file(1);
 
-  const Result r = run("manufactured.prm", {});
-  const auto & cells = r.history.at("cells");
-  const auto & error = r.history.at("energy_error");
+  const Result r     = run("manufactured.prm", {});
+  const auto  &cells = r.history.at("cells");
+  const auto  &error = r.history.at("energy_error");
   // slope of log(error) against log(h), h ~ cells^(-1/2)
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  double             sx = 0, sy = 0, sxx = 0, sxy = 0;
   const unsigned int n = cells.size();
   for (unsigned int i = 0; i < n; ++i)
     {
       const double x = -0.5 * std::log(cells[i]), y = std::log(error[i]);
-      deallog << "cells " << static_cast<unsigned int>(cells[i]) << " energy error " << std::setprecision(4)
-              << error[i] << std::endl;
+      deallog << "cells " << static_cast<unsigned int>(cells[i])
+              << " energy error " << std::setprecision(4) << error[i]
+              << std::endl;
       sx += x;
       sy += y;
       sxx += x * x;

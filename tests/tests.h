@@ -5,13 +5,11 @@
 
 #include <deal.II/base/logstream.h>
 #include <deal.II/base/utilities.h>
-
-#include <signorini/input_error.h>
-#include <signorini/signorini_problem.h>
-
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,7 +21,9 @@ namespace SignoriniTests
 
   /// Set "A/B/name" in @p prm.
   inline void
-  set_entry(ParameterHandler &prm, const std::string &path, const std::string &value)
+  set_entry(ParameterHandler  &prm,
+            const std::string &path,
+            const std::string &value)
   {
     const auto parts = Utilities::split_string_list(path, '/');
     for (unsigned int i = 0; i + 1 < parts.size(); ++i)
@@ -35,15 +35,15 @@ namespace SignoriniTests
 
   struct Result
   {
-    std::map<std::string, std::string> statistics; // last row
-    std::map<std::string, std::vector<double>> history; // numeric columns
-    std::vector<bool>                  active;     // per multiplier node
-    Vector<double>                     dual;
+    std::map<std::string, std::string>         statistics; // last row
+    std::map<std::string, std::vector<double>> history;    // numeric columns
+    std::vector<bool>                          active; // per multiplier node
+    Vector<double>                             dual;
   };
 
   /// Run @p prm_file (relative to the source tree's prm/) with overrides.
   inline Result
-  run(const std::string &                       prm_file,
+  run(const std::string                        &prm_file,
       const std::map<std::string, std::string> &overrides)
   {
     ParameterHandler prm;
@@ -62,17 +62,26 @@ namespace SignoriniTests
     std::cout.rdbuf(old);
 
     Result result;
-    for (const auto &column :
-         {"cells", "dofs", "contact_nodes", "active_nodes", "iterations",
-          "energy", "contact_force", "feasibility", "multiplier_sign",
-          "complementarity", "residual", "resultant", "converged",
-          "energy_error"})
+    for (const auto &column : {"cells",
+                               "dofs",
+                               "contact_nodes",
+                               "active_nodes",
+                               "iterations",
+                               "energy",
+                               "contact_force",
+                               "feasibility",
+                               "multiplier_sign",
+                               "complementarity",
+                               "residual",
+                               "resultant",
+                               "converged",
+                               "energy_error"})
       {
         result.statistics[column] = problem.statistics().last(column);
         for (const auto &v : problem.statistics().column(column))
           result.history[column].push_back(v.empty() ? 0. : std::stod(v));
       }
-    result.dual = problem.dual();
+    result.dual            = problem.dual();
     const double threshold = 1e-8 * max_norm(result.dual);
     for (const double y : result.dual)
       result.active.push_back(y > threshold);
@@ -87,8 +96,10 @@ namespace SignoriniTests
 
   /// Print "name: OK" or "name: FAILED (value vs bound)" and count failures.
   inline void
-  expect_below(const std::string &name, const double value, const double bound,
-               unsigned int &failures)
+  expect_below(const std::string &name,
+               const double       value,
+               const double       bound,
+               unsigned int      &failures)
   {
     if (value <= bound)
       deallog << name << ": OK" << std::endl;

@@ -4,7 +4,6 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
-
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -40,7 +39,7 @@ namespace Signorini
    */
   template <int dim>
   std::unique_ptr<Functions::ParsedFunction<dim>>
-  parse_function(ParameterHandler & prm,
+  parse_function(ParameterHandler  &prm,
                  const unsigned int n_components,
                  const std::string &description);
 

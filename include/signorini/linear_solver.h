@@ -2,14 +2,11 @@
 #define signorini_linear_solver_h
 
 #include <deal.II/base/parameter_handler.h>
-
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>
-
-#include <signorini/linear_algebra.h>
-
 #include <memory>
+#include <signorini/linear_algebra.h>
 #include <string>
 #include <vector>
 
@@ -48,8 +45,8 @@ namespace Signorini
      * translation modes per component, for AMG.
      */
     void
-    initialize(const LA::SparseMatrix &               stiffness,
-               const LA::SparseMatrix &               condensed_stiffness,
+    initialize(const LA::SparseMatrix               &stiffness,
+               const LA::SparseMatrix               &condensed_stiffness,
                const std::vector<std::vector<bool>> &constant_modes);
 
     /**
@@ -62,7 +59,8 @@ namespace Signorini
      * An empty list restores the base preconditioner.
      */
     void
-    update_preconditioner(const std::vector<types::global_dof_index> &eliminated_dofs);
+    update_preconditioner(
+      const std::vector<types::global_dof_index> &eliminated_dofs);
 
     /**
      * Solve with the constraints @p constraints (closed), the unconstrained
@@ -71,8 +69,8 @@ namespace Signorini
      */
     unsigned int
     solve(const AffineConstraints<double> &constraints,
-          const LA::Vector &               load,
-          LA::Vector &                     solution,
+          const LA::Vector                &load,
+          LA::Vector                      &solution,
           const double                     relative_tolerance = 0.) const;
 
     /// "direct (Amesos_Klu)" or "AMG-CG": what initialize() chose.
@@ -84,26 +82,26 @@ namespace Signorini
     tolerance() const;
 
     /// Choose the method by this size unless forced.
-    std::string                type                 = "automatic";
-    std::string                direct_package       = "Amesos_Klu";
-    types::global_dof_index    direct_solver_limit  = 50000;
-    double                     relative_tolerance   = 1e-10;
-    unsigned int               max_iterations       = 5000;
+    std::string             type                = "automatic";
+    std::string             direct_package      = "Amesos_Klu";
+    types::global_dof_index direct_solver_limit = 50000;
+    double                  relative_tolerance  = 1e-10;
+    unsigned int            max_iterations      = 5000;
 
   private:
     /// (Re)build the direct factorisation or the AMG hierarchy of @p matrix.
     void
     build_preconditioner(const LA::SparseMatrix &matrix);
 
-    const LA::SparseMatrix *                            stiffness_matrix = nullptr;
-    const LA::SparseMatrix *                            condensed_matrix = nullptr;
-    LA::SparseMatrix                                    modified_matrix;
-    std::vector<std::vector<bool>>                      translation_modes;
-    std::vector<types::global_dof_index>                current_eliminated_dofs;
-    bool                                                use_direct       = true;
+    const LA::SparseMatrix              *stiffness_matrix = nullptr;
+    const LA::SparseMatrix              *condensed_matrix = nullptr;
+    LA::SparseMatrix                     modified_matrix;
+    std::vector<std::vector<bool>>       translation_modes;
+    std::vector<types::global_dof_index> current_eliminated_dofs;
+    bool                                 use_direct = true;
     mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
-    mutable SolverControl                               direct_control;
-    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
+    mutable SolverControl                                   direct_control;
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG>      amg;
   };
 } // namespace Signorini
 

@@ -21,7 +21,8 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read the parameters; throws InputError for E <= 0 or nu outside (-1, 1/2).
+    /// Read the parameters; throws InputError for E <= 0 or nu outside (-1,
+    /// 1/2).
     void
     parse_parameters(ParameterHandler &prm);
 

@@ -2,9 +2,7 @@
 #define signorini_mesh_input_h
 
 #include <deal.II/base/parameter_handler.h>
-
 #include <deal.II/grid/tria.h>
-
 #include <string>
 #include <vector>
 
@@ -45,8 +43,8 @@ namespace Signorini
 
     std::string               source = "block";
     std::string               file_name;
-    std::string               input_directory = ".";
-    std::vector<unsigned int> block_subdivisions = {4, 3};
+    std::string               input_directory     = ".";
+    std::vector<unsigned int> block_subdivisions  = {4, 3};
     unsigned int              initial_refinements = 0;
   };
 } // namespace Signorini

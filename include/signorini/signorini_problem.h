@@ -4,18 +4,14 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 #include <deal.II/base/timer.h>
-
 #include <deal.II/dofs/dof_handler.h>
-
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
-
 #include <deal.II/grid/tria.h>
-
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
-
+#include <memory>
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
@@ -26,8 +22,6 @@
 #include <signorini/linear_solver.h>
 #include <signorini/material.h>
 #include <signorini/mesh_input.h>
-
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,7 +48,7 @@ namespace Signorini
 
     /// Parse every part; throws InputError for inconsistent input. Relative
     /// file names in @p prm are taken from @p input_directory.
-    explicit SignoriniProblem(ParameterHandler & prm,
+    explicit SignoriniProblem(ParameterHandler  &prm,
                               const std::string &input_directory = ".");
 
     /// Build the initial mesh and the discrete spaces, checking that every
@@ -107,23 +101,23 @@ namespace Signorini
     write_contact_table(const unsigned int cycle) const;
 
     // Input
-    ParameterHandler &              prm;
-    std::string                     output_directory;
-    unsigned int                    n_cycles;
-    bool                            write_vtu;
-    bool                            print_timing;
-    MeshInput<dim>                  mesh_input;
-    LinearElasticMaterial<dim>      material;
-    BoundaryConditions<dim>         boundary_conditions;
+    ParameterHandler                               &prm;
+    std::string                                     output_directory;
+    unsigned int                                    n_cycles;
+    bool                                            write_vtu;
+    bool                                            print_timing;
+    MeshInput<dim>                                  mesh_input;
+    LinearElasticMaterial<dim>                      material;
+    BoundaryConditions<dim>                         boundary_conditions;
     std::unique_ptr<Functions::ParsedFunction<dim>> exact_solution;
 
     // Discretisation
-    Triangulation<dim> triangulation;
-    const FESystem<dim> fe;
-    const MappingFE<dim> mapping;
-    DoFHandler<dim>    dof_handler;
+    Triangulation<dim>     triangulation;
+    const FESystem<dim>    fe;
+    const MappingFE<dim>   mapping;
+    DoFHandler<dim>        dof_handler;
     const FE_SimplexP<dim> scalar_fe;
-    DoFHandler<dim>    scalar_dof_handler; // contact fields in the output
+    DoFHandler<dim>        scalar_dof_handler; // contact fields in the output
 
     // Constraints: hanging nodes, Dirichlet data, and both merged (with and
     // without the Dirichlet values)
@@ -133,10 +127,10 @@ namespace Signorini
     AffineConstraints<double> homogeneous_constraints;
 
     // Contact
-    ContactBoundary<dim>                    contact_boundary;
-    std::unique_ptr<ContactCondition<dim>>  contact_condition;
-    std::unique_ptr<ContactSolver<dim>>     contact_solver;
-    bool                                    guess_from_previous_cycle = true;
+    ContactBoundary<dim>                   contact_boundary;
+    std::unique_ptr<ContactCondition<dim>> contact_condition;
+    std::unique_ptr<ContactSolver<dim>>    contact_solver;
+    bool                                   guess_from_previous_cycle = true;
     /// (position, active) of the multiplier nodes of the previous cycle
     std::vector<std::pair<Point<dim>, bool>> previous_contact_state;
 
@@ -150,8 +144,8 @@ namespace Signorini
     ElasticitySolver linear_solver;
 
     // Output
-    TimerOutput                               timer;
-    CsvTable                                  statistics_table;
+    TimerOutput                                 timer;
+    CsvTable                                    statistics_table;
     std::vector<std::pair<double, std::string>> vtu_files;
   };
 } // namespace Signorini

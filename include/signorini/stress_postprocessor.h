@@ -2,7 +2,6 @@
 #define signorini_stress_postprocessor_h
 
 #include <deal.II/numerics/data_postprocessor.h>
-
 #include <signorini/material.h>
 
 namespace Signorini
@@ -21,9 +20,9 @@ namespace Signorini
     explicit StressPostprocessor(const LinearElasticMaterial<dim> &material);
 
     void
-    evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &inputs,
-                          std::vector<Vector<double>> &computed_quantities)
-      const override;
+    evaluate_vector_field(
+      const DataPostprocessorInputs::Vector<dim> &inputs,
+      std::vector<Vector<double>> &computed_quantities) const override;
 
     std::vector<std::string>
     get_names() const override;

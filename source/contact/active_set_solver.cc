@@ -1,6 +1,5 @@
-#include <signorini/contact/active_set_solver.h>
-
 #include <set>
+#include <signorini/contact/active_set_solver.h>
 
 namespace Signorini
 {
@@ -10,13 +9,18 @@ namespace Signorini
   {
     prm.enter_subsection("Contact");
     prm.enter_subsection("Active set");
-    prm.declare_entry("Maximum iterations", "100", Patterns::Integer(1),
+    prm.declare_entry("Maximum iterations",
+                      "100",
+                      Patterns::Integer(1),
                       "Limit on the number of active-set updates.");
-    prm.declare_entry("Inexact tolerance", "1e-6", Patterns::Double(0., 1.),
+    prm.declare_entry("Inexact tolerance",
+                      "1e-6",
+                      Patterns::Double(0., 1.),
                       "Relative CG tolerance of the solves while the active "
                       "set still changes (the final solve uses Linear "
                       "solver/Relative tolerance).");
-    prm.declare_entry("Preconditioner update fraction", "0.02",
+    prm.declare_entry("Preconditioner update fraction",
+                      "0.02",
                       Patterns::Double(0., 1.),
                       "Rebuild the elasticity preconditioner for the current "
                       "active set when more than this fraction of the contact "
@@ -55,16 +59,17 @@ namespace Signorini
   template <int dim>
   typename ContactSolver<dim>::Report
   ActiveSetSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
-                              LA::Vector &                       u,
-                              Vector<double> &                   y,
-                              const std::vector<bool> &          initial_active)
+                              LA::Vector                        &u,
+                              Vector<double>                    &y,
+                              const std::vector<bool>           &initial_active)
   {
     typename ContactSolver<dim>::Report report;
     const unsigned int                  m = problem.n_constraints();
     // Without a guess the first step (empty active set) is the
     // unconstrained problem.
-    std::vector<bool> active =
-      (initial_active.size() == m) ? initial_active : std::vector<bool>(m, false);
+    std::vector<bool>           active = (initial_active.size() == m) ?
+                                           initial_active :
+                                           std::vector<bool>(m, false);
     std::set<std::vector<bool>> visited{active};
     bool                        exact = (inexact_tolerance == 0.);
     std::vector<bool>           preconditioned(m, false);
@@ -80,7 +85,9 @@ namespace Signorini
             preconditioned = active;
           }
         report.linear_iterations +=
-          problem.solve_with_active_set(active, u, exact ? 0. : inexact_tolerance);
+          problem.solve_with_active_set(active,
+                                        u,
+                                        exact ? 0. : inexact_tolerance);
         ++report.linear_solves;
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
@@ -92,10 +99,10 @@ namespace Signorini
 
         // Thresholds against round-off and the CG tolerance on nodes that
         // are in contact with a zero force (the contact/separation point).
-        const Vector<double> slack = problem.slack(u);
-        const double tol_slack = 1e-9 * problem.constraint_scale(u);
-        const double tol_y     = 1e-9 * max_norm(y);
-        std::vector<bool> next(m);
+        const Vector<double> slack     = problem.slack(u);
+        const double         tol_slack = 1e-9 * problem.constraint_scale(u);
+        const double         tol_y     = 1e-9 * max_norm(y);
+        std::vector<bool>    next(m);
         for (unsigned int i = 0; i < m; ++i)
           next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
 
@@ -122,7 +129,8 @@ namespace Signorini
         if (report.iterations >= max_iterations)
           throw std::runtime_error(
             "the active set method did not converge in Contact/Active set/"
-            "Maximum iterations = " + std::to_string(max_iterations));
+            "Maximum iterations = " +
+            std::to_string(max_iterations));
         active = next;
       }
 
@@ -131,14 +139,14 @@ namespace Signorini
 
     // Report the relative KKT residual of the final iterate.
     const Vector<double> slack = problem.slack(u);
-    const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
-    const double         scale_dual   = std::max(max_norm(y), 1e-300);
+    const double scale_primal  = std::max(problem.constraint_scale(u), 1e-300);
+    const double scale_dual    = std::max(max_norm(y), 1e-300);
     for (unsigned int i = 0; i < m; ++i)
-      report.residual = std::max({report.residual,
-                                  -slack[i] / scale_primal,
-                                  -y[i] / scale_dual,
-                                  std::abs(y[i] * slack[i]) /
-                                    (scale_dual * scale_primal)});
+      report.residual =
+        std::max({report.residual,
+                  -slack[i] / scale_primal,
+                  -y[i] / scale_dual,
+                  std::abs(y[i] * slack[i]) / (scale_dual * scale_primal)});
     return report;
   }
 

@@ -1,6 +1,5 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_direct.h>
-
 #include <signorini/contact/condition.h>
 #include <signorini/contact/integral_condition.h>
 #include <signorini/contact/pointwise_condition.h>
@@ -71,7 +70,7 @@ namespace Signorini
   void
   ContactCondition<dim>::solve_active_block(
     const std::vector<unsigned int> &active_rows,
-    std::vector<Vector<double>> &    right_hand_sides) const
+    std::vector<Vector<double>>     &right_hand_sides) const
   {
     const unsigned int        n = active_rows.size();
     std::vector<unsigned int> position_of_node(n_all_nodes,
@@ -103,9 +102,9 @@ namespace Signorini
   template <int dim>
   void
   ContactCondition<dim>::add_active_constraints(
-    const std::vector<bool> &   active,
+    const std::vector<bool>    &active,
     const ContactBoundary<dim> &boundary,
-    AffineConstraints<double> & constraints) const
+    AffineConstraints<double>  &constraints) const
   {
     AssertDimension(active.size(), weight_rows.size());
     std::vector<unsigned int> active_rows;
@@ -145,7 +144,7 @@ namespace Signorini
       }
     solve_active_block(active_rows, columns);
 
-    const Tensor<1, dim> nu = boundary.direction();
+    const Tensor<1, dim> nu     = boundary.direction();
     const unsigned int   c_star = boundary.constrained_component();
     for (unsigned int a = 0; a < n_active; ++a)
       {
@@ -178,7 +177,7 @@ namespace Signorini
   Vector<double>
   ContactCondition<dim>::dual_from_residual(
     const std::vector<bool> &active,
-    const Vector<double> &   normal_residual) const
+    const Vector<double>    &normal_residual) const
   {
     std::vector<unsigned int> active_rows;
     for (unsigned int i = 0; i < active.size(); ++i)
@@ -203,7 +202,8 @@ namespace Signorini
   declare_contact_condition_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Contact");
-    prm.declare_entry("Condition", "integral",
+    prm.declare_entry("Condition",
+                      "integral",
                       Patterns::Selection("integral|pointwise"),
                       "Discrete non-penetration condition: 'integral' (M q_N "
                       "<= ghat, [16]) or 'pointwise' (q_N <= G, [17]).");

@@ -1,14 +1,10 @@
 #include <deal.II/base/quadrature_lib.h>
-
 #include <deal.II/fe/fe_values.h>
-
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-
+#include <map>
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/input_error.h>
-
-#include <map>
 
 namespace Signorini
 {
@@ -18,10 +14,14 @@ namespace Signorini
   {
     prm.enter_subsection("Contact");
     {
-      prm.declare_entry("Boundary ids", "", Patterns::List(Patterns::Integer(0)),
+      prm.declare_entry("Boundary ids",
+                        "",
+                        Patterns::List(Patterns::Integer(0)),
                         "Boundary ids forming the candidate contact part GC "
                         "(empty: pure elasticity).");
-      prm.declare_entry("Direction", "outward normal", Patterns::Anything(),
+      prm.declare_entry("Direction",
+                        "outward normal",
+                        Patterns::Anything(),
                         "Unit vector nu_c from the body into the foundation, "
                         "as 'x, y' (normalised on input), or 'outward "
                         "normal' for a flat GC.");
@@ -75,8 +75,8 @@ namespace Signorini
   template <int dim>
   void
   ContactBoundary<dim>::reinit(
-    const Mapping<dim> &             mapping,
-    const DoFHandler<dim> &          dof_handler,
+    const Mapping<dim>              &mapping,
+    const DoFHandler<dim>           &dof_handler,
     const AffineConstraints<double> &dirichlet_constraints,
     const AffineConstraints<double> &hanging_node_constraints)
   {
@@ -91,9 +91,11 @@ namespace Signorini
         return;
       }
 
-    const auto &fe = dof_handler.get_fe();
+    const auto                  &fe = dof_handler.get_fe();
     const QGaussSimplex<dim - 1> face_quadrature(3);
-    FEFaceValues<dim>            fe_face_values(mapping, fe, face_quadrature,
+    FEFaceValues<dim>            fe_face_values(mapping,
+                                     fe,
+                                     face_quadrature,
                                      update_values | update_quadrature_points |
                                        update_normal_vectors |
                                        update_JxW_values);
@@ -101,7 +103,7 @@ namespace Signorini
     // 1. Nodes, numbered in the order met; faces remembered for step 2.
     std::map<unsigned int, unsigned int> node_of_vertex;
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    const bool use_outward_normal = (direction_text == "outward normal");
+    const bool     use_outward_normal = (direction_text == "outward normal");
     Tensor<1, dim> first_normal;
     bool           have_normal = false;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -120,7 +122,8 @@ namespace Signorini
                   first_normal = normal;
                   have_normal  = true;
                 }
-              else if (use_outward_normal && (normal - first_normal).norm() > 1e-8)
+              else if (use_outward_normal &&
+                       (normal - first_normal).norm() > 1e-8)
                 throw InputError(
                   "Contact/Direction = outward normal needs a flat contact "
                   "boundary; GC is curved, give the direction as a vector");
@@ -138,7 +141,8 @@ namespace Signorini
                     if (cell->vertex_index(w) == vertex)
                       cell_vertex = w;
                   for (unsigned int c = 0; c < dim; ++c)
-                    node.dofs[c] = dofs[fe.component_to_system_index(c, cell_vertex)];
+                    node.dofs[c] =
+                      dofs[fe.component_to_system_index(c, cell_vertex)];
                   node_of_vertex[vertex] = nodes.size();
                   nodes.push_back(node);
                 }
@@ -174,7 +178,8 @@ namespace Signorini
     // 3. M and ghat by face quadrature (P1 traces are the component-0 shape
     // functions of the vector element), G by nodal evaluation.
     DynamicSparsityPattern dsp(nodes.size(), nodes.size());
-    std::vector<std::pair<typename DoFHandler<dim>::active_cell_iterator, unsigned int>>
+    std::vector<
+      std::pair<typename DoFHandler<dim>::active_cell_iterator, unsigned int>>
       faces;
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
@@ -201,10 +206,11 @@ namespace Signorini
         std::vector<std::pair<unsigned int, unsigned int>> local_to_node;
         for (const unsigned int w : cell->vertex_indices())
           {
-            const auto it = node_of_vertex.find(cell->vertex_index(w));
-            bool on_face = false;
+            const auto it      = node_of_vertex.find(cell->vertex_index(w));
+            bool       on_face = false;
             for (const unsigned int v : cell->face(f)->vertex_indices())
-              on_face |= (cell->face(f)->vertex_index(v) == cell->vertex_index(w));
+              on_face |=
+                (cell->face(f)->vertex_index(v) == cell->vertex_index(w));
             if (on_face)
               local_to_node.emplace_back(fe.component_to_system_index(0, w),
                                          it->second);
@@ -216,11 +222,14 @@ namespace Signorini
             const double JxW = fe_face_values.JxW(q);
             for (const auto &[i, node_i] : local_to_node)
               {
-                const double psi_i = fe_face_values.shape_value_component(i, q, 0);
+                const double psi_i =
+                  fe_face_values.shape_value_component(i, q, 0);
                 weighted_gap_at_nodes[node_i] += gap * psi_i * JxW;
                 for (const auto &[j, node_j] : local_to_node)
-                  mass.add(node_i, node_j,
-                           psi_i * fe_face_values.shape_value_component(j, q, 0) *
+                  mass.add(node_i,
+                           node_j,
+                           psi_i *
+                             fe_face_values.shape_value_component(j, q, 0) *
                              JxW);
               }
           }
@@ -330,7 +339,7 @@ namespace Signorini
   template <int dim>
   void
   ContactBoundary<dim>::add_normal_forces(const Vector<double> &forces,
-                                          LA::Vector &          v) const
+                                          LA::Vector           &v) const
   {
     AssertDimension(forces.size(), nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)

@@ -4,14 +4,14 @@ namespace Signorini
 {
   template <int dim>
   DiscreteContactProblem<dim>::DiscreteContactProblem(
-    const LA::SparseMatrix &         stiffness,
-    const LA::Vector &               load,
+    const LA::SparseMatrix          &stiffness,
+    const LA::Vector                &load,
     const AffineConstraints<double> &constraints,
     const AffineConstraints<double> &homogeneous_constraints,
     const AffineConstraints<double> &hanging_node_constraints,
-    const ContactBoundary<dim> &     boundary,
-    const ContactCondition<dim> &    condition,
-    ElasticitySolver &               linear_solver)
+    const ContactBoundary<dim>      &boundary,
+    const ContactCondition<dim>     &condition,
+    ElasticitySolver                &linear_solver)
     : stiffness_matrix(stiffness)
     , load_vector(load)
     , base_constraints(constraints)
@@ -68,11 +68,13 @@ namespace Signorini
   unsigned int
   DiscreteContactProblem<dim>::solve_with_active_set(
     const std::vector<bool> &active,
-    LA::Vector &             u,
+    LA::Vector              &u,
     const double             relative_tolerance) const
   {
     AffineConstraints<double> constraints;
-    contact_condition.add_active_constraints(active, contact_boundary, constraints);
+    contact_condition.add_active_constraints(active,
+                                             contact_boundary,
+                                             constraints);
     constraints.merge(base_constraints,
                       AffineConstraints<double>::no_conflicts_allowed);
     constraints.close();
@@ -86,8 +88,8 @@ namespace Signorini
   DiscreteContactProblem<dim>::update_preconditioner(
     const std::vector<bool> &active) const
   {
-    const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
-    const unsigned int c_star     = contact_boundary.constrained_component();
+    const auto        &multiplier_nodes = contact_boundary.multiplier_nodes();
+    const unsigned int c_star = contact_boundary.constrained_component();
     std::vector<types::global_dof_index> dofs;
     for (unsigned int i = 0; i < active.size(); ++i)
       if (active[i])
@@ -99,9 +101,10 @@ namespace Signorini
 
   template <int dim>
   unsigned int
-  DiscreteContactProblem<dim>::solve_with_dual(const Vector<double> &y,
-                                               LA::Vector &          u,
-                                               const double relative_tolerance) const
+  DiscreteContactProblem<dim>::solve_with_dual(
+    const Vector<double> &y,
+    LA::Vector           &u,
+    const double          relative_tolerance) const
   {
     LA::Vector load(load_vector);
     contact_boundary.add_normal_forces(contact_condition.nodal_forces(y), load);
@@ -113,15 +116,17 @@ namespace Signorini
 
   template <int dim>
   unsigned int
-  DiscreteContactProblem<dim>::dual_operator_column(const unsigned int i,
-                                                    Vector<double> &column) const
+  DiscreteContactProblem<dim>::dual_operator_column(
+    const unsigned int i,
+    Vector<double>    &column) const
   {
     // z = K^{-1} B^T e_i, then column = B z
     Vector<double> unit(n_constraints());
     unit[i] = -1.; // nodal_forces() returns -W^T y
     LA::Vector load(load_vector);
     load = 0.;
-    contact_boundary.add_normal_forces(contact_condition.nodal_forces(unit), load);
+    contact_boundary.add_normal_forces(contact_condition.nodal_forces(unit),
+                                       load);
     load.compress(VectorOperation::add);
     LA::Vector z(load_vector);
     z = 0.;
@@ -148,12 +153,13 @@ namespace Signorini
 
   template <int dim>
   Vector<double>
-  DiscreteContactProblem<dim>::dual_from_residual(const std::vector<bool> &active,
-                                                  const LA::Vector &u) const
+  DiscreteContactProblem<dim>::dual_from_residual(
+    const std::vector<bool> &active,
+    const LA::Vector        &u) const
   {
     // rho = nu . (F - K u) at the nodes; K u + B^T y = F gives W^T y = rho
     const LA::Vector r  = residual(u);
-    const auto &     nu = contact_boundary.direction();
+    const auto      &nu = contact_boundary.direction();
     Vector<double>   rho(contact_boundary.n_nodes());
     for (unsigned int k = 0; k < rho.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)

@@ -8,12 +8,18 @@ namespace Signorini
   {
     prm.enter_subsection("Contact");
     prm.enter_subsection("Frank-Wolfe");
-    prm.declare_entry("Maximum iterations", "1000000", Patterns::Integer(1),
+    prm.declare_entry("Maximum iterations",
+                      "1000000",
+                      Patterns::Integer(1),
                       "Limit on the number of Frank-Wolfe steps.");
-    prm.declare_entry("Tolerance", "1e-12", Patterns::Double(0., 1.),
+    prm.declare_entry("Tolerance",
+                      "1e-12",
+                      Patterns::Double(0., 1.),
                       "Stop when the KKT residual of the dual problem is "
                       "below this fraction of max |d|.");
-    prm.declare_entry("Maximum columns", "100000", Patterns::Integer(1),
+    prm.declare_entry("Maximum columns",
+                      "100000",
+                      Patterns::Integer(1),
                       "Limit on the columns of the dual operator formed (one "
                       "elasticity solve each); reaching it stops unconverged.");
     prm.leave_subsection();
@@ -49,8 +55,8 @@ namespace Signorini
   template <int dim>
   typename ContactSolver<dim>::Report
   FrankWolfeSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
-                               LA::Vector &                       u,
-                               Vector<double> &                   y,
+                               LA::Vector                        &u,
+                               Vector<double>                    &y,
                                const std::vector<bool> & /*initial_active*/)
   {
     typename ContactSolver<dim>::Report report;
@@ -104,7 +110,7 @@ namespace Signorini
                   away = i;
               }
           }
-        kkt = std::max(kkt, -g[ray]);
+        kkt             = std::max(kkt, -g[ray]);
         report.residual = kkt / scale;
         if (report.residual <= tolerance)
           {
@@ -113,8 +119,9 @@ namespace Signorini
           }
 
         // Descent rate per unit length of each candidate direction.
-        const double ray_rate  = -g[ray];
-        const double away_rate = (away != numbers::invalid_unsigned_int) ? g[away] : 0.;
+        const double ray_rate = -g[ray];
+        const double away_rate =
+          (away != numbers::invalid_unsigned_int) ? g[away] : 0.;
         const double y_norm    = y.l2_norm();
         const double apex_rate = (y_norm > 0.) ? (g * y) / y_norm : 0.;
 

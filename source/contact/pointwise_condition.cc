@@ -1,5 +1,4 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-
 #include <signorini/contact/pointwise_condition.h>
 
 namespace Signorini
@@ -35,7 +34,7 @@ namespace Signorini
       return;
 
     // M restricted to the multiplier nodes, to turn Gamma into Lambda.
-    const auto &           mass = boundary.mass_matrix();
+    const auto            &mass = boundary.mass_matrix();
     DynamicSparsityPattern dsp(m, m);
     for (unsigned int i = 0; i < m; ++i)
       for (auto entry = mass.begin(this->multiplier_node[i]);

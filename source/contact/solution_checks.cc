@@ -5,23 +5,25 @@ namespace Signorini
   template <int dim>
   SolutionChecks
   check_solution(const DiscreteContactProblem<dim> &problem,
-                 const LA::Vector &                 u,
-                 const Vector<double> &             y,
-                 const AffineConstraints<double> &  dirichlet_constraints,
-                 const std::vector<Point<dim>> &    support_points,
-                 const std::vector<unsigned int> &  dof_component)
+                 const LA::Vector                  &u,
+                 const Vector<double>              &y,
+                 const AffineConstraints<double>   &dirichlet_constraints,
+                 const std::vector<Point<dim>>     &support_points,
+                 const std::vector<unsigned int>   &dof_component)
   {
     static_assert(dim == 2, "the moment balance is written for 2D");
     SolutionChecks checks;
 
     // complementarity conditions
-    const Vector<double> slack        = problem.slack(u);
-    const double         scale_primal = std::max(problem.constraint_scale(u), 1e-300);
-    const double         scale_dual   = std::max(max_norm(y), 1e-300);
+    const Vector<double> slack = problem.slack(u);
+    const double scale_primal  = std::max(problem.constraint_scale(u), 1e-300);
+    const double scale_dual    = std::max(max_norm(y), 1e-300);
     for (unsigned int i = 0; i < y.size(); ++i)
       {
-        checks.feasibility = std::max(checks.feasibility, -slack[i] / scale_primal);
-        checks.multiplier_sign = std::max(checks.multiplier_sign, -y[i] / scale_dual);
+        checks.feasibility =
+          std::max(checks.feasibility, -slack[i] / scale_primal);
+        checks.multiplier_sign =
+          std::max(checks.multiplier_sign, -y[i] / scale_dual);
         checks.complementarity =
           std::max(checks.complementarity,
                    std::abs(y[i] * slack[i]) / (scale_primal * scale_dual));
@@ -71,7 +73,8 @@ namespace Signorini
     checks.residual /= std::max(applied_scale, 1e-300);
     const double diameter = (upper - lower).norm();
     checks.resultant =
-      std::max({std::abs(force[0]), std::abs(force[1]), std::abs(moment) / diameter}) /
+      std::max(
+        {std::abs(force[0]), std::abs(force[1]), std::abs(moment) / diameter}) /
       std::max(load_sum, 1e-300);
     return checks;
   }

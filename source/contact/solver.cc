@@ -10,7 +10,8 @@ namespace Signorini
   declare_contact_solver_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Contact");
-    prm.declare_entry("Solver", "active set",
+    prm.declare_entry("Solver",
+                      "active set",
                       Patterns::Selection("active set|Frank-Wolfe"),
                       "Algorithm for the discrete contact problem: primal-"
                       "dual active set, or Frank-Wolfe on the dual QP as in "

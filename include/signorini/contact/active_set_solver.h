@@ -41,9 +41,9 @@ namespace Signorini
 
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
-          LA::Vector &                       u,
-          Vector<double> &                   y,
-          const std::vector<bool> &          initial_active = {}) override;
+          LA::Vector                        &u,
+          Vector<double>                    &y,
+          const std::vector<bool>           &initial_active = {}) override;
 
     unsigned int max_iterations = 100;
     /// CG tolerance while the active set still changes.

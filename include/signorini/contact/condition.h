@@ -2,13 +2,10 @@
 #define signorini_contact_condition_h
 
 #include <deal.II/base/parameter_handler.h>
-
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
-
-#include <signorini/contact/contact_boundary.h>
-
 #include <memory>
+#include <signorini/contact/contact_boundary.h>
 #include <string>
 #include <vector>
 
@@ -76,9 +73,9 @@ namespace Signorini
      * q_N(A) = W_AA^{-1} (b_A - W_{A,R} q_N(R)), R the other nodes of GC.
      */
     void
-    add_active_constraints(const std::vector<bool> &   active,
+    add_active_constraints(const std::vector<bool>    &active,
                            const ContactBoundary<dim> &boundary,
-                           AffineConstraints<double> & constraints) const;
+                           AffineConstraints<double>  &constraints) const;
 
     /**
      * The dual variable from the normal residual forces rho_k = nu_c . (F -
@@ -86,7 +83,7 @@ namespace Signorini
      */
     Vector<double>
     dual_from_residual(const std::vector<bool> &active,
-                       const Vector<double> &   normal_residual) const;
+                       const Vector<double>    &normal_residual) const;
 
   protected:
     /// W as sparse rows: (node index, weight); row i belongs to node
@@ -101,7 +98,7 @@ namespace Signorini
     /// length |A|); W_AA is symmetric positive definite.
     void
     solve_active_block(const std::vector<unsigned int> &active_rows,
-                       std::vector<Vector<double>> &    right_hand_sides) const;
+                       std::vector<Vector<double>>     &right_hand_sides) const;
   };
 
   template <int dim>

@@ -1,25 +1,20 @@
 #ifndef signorini_contact_contact_boundary_h
 #define signorini_contact_contact_boundary_h
 
+#include <array>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
-
 #include <deal.II/dofs/dof_handler.h>
-
 #include <deal.II/fe/mapping.h>
-
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
-
-#include <signorini/linear_algebra.h>
-
-#include <array>
 #include <memory>
 #include <set>
+#include <signorini/linear_algebra.h>
 #include <vector>
 
 namespace Signorini
@@ -42,10 +37,10 @@ namespace Signorini
   public:
     struct Node
     {
-      Point<dim>                                position;
-      unsigned int                              vertex;
+      Point<dim>                               position;
+      unsigned int                             vertex;
       std::array<types::global_dof_index, dim> dofs;
-      bool                                      has_multiplier;
+      bool                                     has_multiplier;
     };
 
     static void
@@ -59,10 +54,10 @@ namespace Signorini
      * Throws if a node of GC is a hanging node (not supported on GC).
      */
     void
-    reinit(const Mapping<dim> &              mapping,
-           const DoFHandler<dim> &           dof_handler,
-           const AffineConstraints<double> & dirichlet_constraints,
-           const AffineConstraints<double> & hanging_node_constraints);
+    reinit(const Mapping<dim>              &mapping,
+           const DoFHandler<dim>           &dof_handler,
+           const AffineConstraints<double> &dirichlet_constraints,
+           const AffineConstraints<double> &hanging_node_constraints);
 
     bool
     empty() const;

@@ -3,12 +3,10 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
-
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
-
 #include <vector>
 
 namespace Signorini
@@ -29,14 +27,15 @@ namespace Signorini
   class DiscreteContactProblem
   {
   public:
-    DiscreteContactProblem(const LA::SparseMatrix &         stiffness,
-                           const LA::Vector &               load,
-                           const AffineConstraints<double> &constraints,
-                           const AffineConstraints<double> &homogeneous_constraints,
-                           const AffineConstraints<double> &hanging_node_constraints,
-                           const ContactBoundary<dim> &     boundary,
-                           const ContactCondition<dim> &    condition,
-                           ElasticitySolver &               linear_solver);
+    DiscreteContactProblem(
+      const LA::SparseMatrix          &stiffness,
+      const LA::Vector                &load,
+      const AffineConstraints<double> &constraints,
+      const AffineConstraints<double> &homogeneous_constraints,
+      const AffineConstraints<double> &hanging_node_constraints,
+      const ContactBoundary<dim>      &boundary,
+      const ContactCondition<dim>     &condition,
+      ElasticitySolver                &linear_solver);
 
     unsigned int
     n_constraints() const;
@@ -58,8 +57,8 @@ namespace Signorini
      */
     unsigned int
     solve_with_active_set(const std::vector<bool> &active,
-                          LA::Vector &             u,
-                          const double             relative_tolerance = 0.) const;
+                          LA::Vector              &u,
+                          const double relative_tolerance = 0.) const;
 
     /**
      * Tune the linear solver's preconditioner to the active set @p active
@@ -72,7 +71,7 @@ namespace Signorini
     /// Solve K u = F - B^T y under the base constraints.
     unsigned int
     solve_with_dual(const Vector<double> &y,
-                    LA::Vector &          u,
+                    LA::Vector           &u,
                     const double          relative_tolerance = 0.) const;
 
     /// Column i of the dual operator S = B K^{-1} B^T (homogeneous base
@@ -83,7 +82,7 @@ namespace Signorini
     /// The dual variable of an active set from the residual of u.
     Vector<double>
     dual_from_residual(const std::vector<bool> &active,
-                       const LA::Vector &       u) const;
+                       const LA::Vector        &u) const;
 
     /**
      * The nodal residual F - K u with hanging-node rows moved to their
@@ -114,14 +113,14 @@ namespace Signorini
     constraint_scale(const LA::Vector &u) const;
 
   private:
-    const LA::SparseMatrix &         stiffness_matrix;
-    const LA::Vector &               load_vector;
+    const LA::SparseMatrix          &stiffness_matrix;
+    const LA::Vector                &load_vector;
     const AffineConstraints<double> &base_constraints;
     const AffineConstraints<double> &homogeneous_base_constraints;
     const AffineConstraints<double> &hanging_node_constraints;
-    const ContactBoundary<dim> &     contact_boundary;
-    const ContactCondition<dim> &    contact_condition;
-    ElasticitySolver &               linear_solver;
+    const ContactBoundary<dim>      &contact_boundary;
+    const ContactCondition<dim>     &contact_condition;
+    ElasticitySolver                &linear_solver;
   };
 } // namespace Signorini
 

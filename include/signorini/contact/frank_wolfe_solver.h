@@ -1,9 +1,8 @@
 #ifndef signorini_contact_frank_wolfe_solver_h
 #define signorini_contact_frank_wolfe_solver_h
 
-#include <signorini/contact/solver.h>
-
 #include <map>
+#include <signorini/contact/solver.h>
 
 namespace Signorini
 {
@@ -12,7 +11,8 @@ namespace Signorini
    * problems [23] and [24], written for y = -Lambda (integral) or y = -Gamma
    * (pointwise):
    *
-   *   min_{y >= 0} 1/2 y^T S y - d^T y,   S = B K^{-1} B^T,  d = B K^{-1} F - b.
+   *   min_{y >= 0} 1/2 y^T S y - d^T y,   S = B K^{-1} B^T,  d = B K^{-1} F -
+   * b.
    *
    * The feasible set is the cone y >= 0: its extreme rays e_i and its apex 0.
    * With gradient g = S y - d, the linear subproblem min g^T s over the cone
@@ -46,9 +46,9 @@ namespace Signorini
 
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
-          LA::Vector &                       u,
-          Vector<double> &                   y,
-          const std::vector<bool> &          initial_active = {}) override;
+          LA::Vector                        &u,
+          Vector<double>                    &y,
+          const std::vector<bool>           &initial_active = {}) override;
 
     unsigned int max_iterations = 1000000;
     double       tolerance      = 1e-12;

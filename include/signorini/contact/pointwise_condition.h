@@ -2,7 +2,6 @@
 #define signorini_contact_pointwise_condition_h
 
 #include <deal.II/lac/sparse_direct.h>
-
 #include <signorini/contact/condition.h>
 
 namespace Signorini

@@ -2,11 +2,8 @@
 #define signorini_contact_solution_checks_h
 
 #include <deal.II/base/point.h>
-
 #include <deal.II/lac/vector.h>
-
 #include <signorini/contact/discrete_problem.h>
-
 #include <vector>
 
 namespace Signorini
@@ -40,11 +37,11 @@ namespace Signorini
   template <int dim>
   SolutionChecks
   check_solution(const DiscreteContactProblem<dim> &problem,
-                 const LA::Vector &                 u,
-                 const Vector<double> &             y,
-                 const AffineConstraints<double> &  dirichlet_constraints,
-                 const std::vector<Point<dim>> &    support_points,
-                 const std::vector<unsigned int> &  dof_component);
+                 const LA::Vector                  &u,
+                 const Vector<double>              &y,
+                 const AffineConstraints<double>   &dirichlet_constraints,
+                 const std::vector<Point<dim>>     &support_points,
+                 const std::vector<unsigned int>   &dof_component);
 } // namespace Signorini
 
 #endif

@@ -2,13 +2,10 @@
 #define signorini_contact_solver_h
 
 #include <deal.II/base/parameter_handler.h>
-
 #include <deal.II/lac/vector.h>
-
+#include <memory>
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/linear_algebra.h>
-
-#include <memory>
 #include <string>
 
 namespace Signorini
@@ -33,7 +30,7 @@ namespace Signorini
       /// Elasticity solves (linear systems) performed.
       unsigned int linear_solves = 0;
       /// Relative KKT residual reached (0 for an exact active set).
-      double residual = 0.;
+      double residual  = 0.;
       bool   converged = false;
     };
 
@@ -50,9 +47,9 @@ namespace Signorini
      */
     virtual Report
     solve(const DiscreteContactProblem<dim> &problem,
-          LA::Vector &                       u,
-          Vector<double> &                   y,
-          const std::vector<bool> &          initial_active = {}) = 0;
+          LA::Vector                        &u,
+          Vector<double>                    &y,
+          const std::vector<bool>           &initial_active = {}) = 0;
   };
 
   template <int dim>
