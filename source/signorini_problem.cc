@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <signorini/cell_data_postprocessor.h>
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
 #include <signorini/stress_postprocessor.h>
@@ -61,8 +62,19 @@ namespace Signorini
                       "active set of the previous (coarser) cycle.");
     prm.leave_subsection();
 
+    prm.enter_subsection("Reference solution");
+    prm.declare_entry("Extra refinements",
+                      "0",
+                      Patterns::Integer(0, 6),
+                      "If > 0, solve once on the initial mesh refined this "
+                      "many levels beyond the finest cycle, with the same "
+                      "condition, and report eps_ex, the effectivity and the "
+                      "Prager-Synge check against it.");
+    prm.leave_subsection();
+
     MeshInput<dim>::declare_parameters(prm);
     LinearElasticMaterial<dim>::declare_parameters(prm);
+    ConstitutiveRelationError<dim>::declare_parameters(prm);
     BoundaryConditions<dim>::declare_parameters(prm);
     ContactBoundary<dim>::declare_parameters(prm);
     declare_contact_condition_parameters<dim>(prm);
@@ -104,6 +116,10 @@ namespace Signorini
     contact_condition = create_contact_condition<dim>(prm);
     contact_solver    = create_contact_solver<dim>(prm);
     linear_solver.parse_parameters(prm);
+    estimator.parse_parameters(prm);
+    prm.enter_subsection("Reference solution");
+    reference_extra_levels = prm.get_integer("Extra refinements");
+    prm.leave_subsection();
 
     for (const auto id : boundary_conditions.used_boundary_ids())
       if (contact_boundary.boundary_ids().count(id) != 0)
@@ -384,6 +400,9 @@ namespace Signorini
       std::cout << "   contact solve " << solve_timer.wall_time() << " s"
                 << std::endl;
 
+    if (estimator.enabled())
+      estimate_error(problem);
+
     statistics_table.add_value("cycle", cycle);
     statistics_table.add_value("cells", triangulation.n_active_cells());
     statistics_table.add_value("dofs", dof_handler.n_dofs());
@@ -407,6 +426,44 @@ namespace Signorini
     statistics_table.add_value("complementarity", checks.complementarity);
     statistics_table.add_value("residual", checks.residual);
     statistics_table.add_value("resultant", checks.resultant);
+    statistics_table.add_value("contact_cells",
+                               contact_boundary.n_contact_cells());
+    if (estimator.enabled())
+      {
+        statistics_table.add_value("e", std::sqrt(estimate.e_squared));
+        statistics_table.add_value("eps", estimate.eps);
+        statistics_table.add_value("eps_contact", estimate.eps_contact);
+        statistics_table.add_value("estimate_seconds", estimate_seconds);
+        statistics_table.add_value("equilibrium_defect",
+                                   estimate.equilibrium_defect);
+        statistics_table.add_value("prolongation_defect",
+                                   estimate.prolongation_defect);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::estimate_error(
+    const DiscreteContactProblem<dim> &problem)
+  {
+    TimerOutput::Scope t(timer, "error estimate");
+    Timer              estimate_timer;
+    admissible_displacement.reinit(solution);
+    estimate         = estimator.estimate(problem,
+                                  mapping,
+                                  dof_handler,
+                                  material,
+                                  boundary_conditions,
+                                  solution,
+                                  dual_solution,
+                                  admissible_displacement);
+    estimate_seconds = estimate_timer.wall_time();
+    std::cout << "   error in constitutive relation: eps = "
+              << std::setprecision(4) << 100. * estimate.eps
+              << " % (contact term " << 100. * estimate.eps_contact
+              << " % of e^2)" << std::setprecision(6) << std::endl;
   }
 
 
@@ -584,6 +641,9 @@ namespace Signorini
     data_out.add_data_vector(dof_handler, solution, stress);
     data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
+    const CellDataPostprocessor<dim> eps_E("eps_E", estimate.local);
+    if (estimator.enabled())
+      data_out.add_data_vector(dof_handler, solution, eps_E);
     data_out.build_patches(mapping);
     const std::string name =
       "solution-" + Utilities::int_to_string(cycle, 2) + ".vtu";
@@ -592,6 +652,78 @@ namespace Signorini
     vtu_files.emplace_back(cycle, name);
     std::ofstream pvd(output_directory + "/solution.pvd");
     DataOutBase::write_pvd_record(pvd, vtu_files);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::compare_with_reference()
+  {
+    TimerOutput::Scope t(timer, "reference comparison");
+    // U_h and U^ on the reference mesh (nested: interpolation is exact)
+    const auto on_reference = [&](const LA::Vector &u) {
+      Vector<double> coarse(u.size()),
+        fine(reference->get_dof_handler().n_dofs());
+      for (const auto i : u.locally_owned_elements())
+        coarse[i] = u[i];
+      VectorTools::interpolate_to_different_mesh(dof_handler,
+                                                 coarse,
+                                                 reference->get_dof_handler(),
+                                                 fine);
+      LA::Vector result(reference->displacement());
+      for (const auto i : result.locally_owned_elements())
+        result[i] = fine[i];
+      result.compress(VectorOperation::insert);
+      return result;
+    };
+    const LA::Vector &u_ref = reference->displacement();
+    const auto        norm  = [&](const LA::Vector &v) {
+      return std::sqrt(reference->stiffness_matrix().matrix_norm_square(v));
+    };
+    LA::Vector u_h = on_reference(solution);
+    LA::Vector difference(u_ref), sum(u_ref);
+    difference -= u_h;
+    sum += u_h;
+    const double eps_ex = norm(difference) / norm(sum);
+    statistics_table.add_value("eps_ex", eps_ex);
+    std::cout << "   exact error (reference "
+              << reference->get_dof_handler().n_dofs()
+              << " DoFs): eps_ex = " << std::setprecision(4) << 100. * eps_ex
+              << " %";
+    if (estimator.enabled())
+      {
+        LA::Vector u_hat = on_reference(admissible_displacement);
+        LA::Vector error_hat(u_ref);
+        error_hat -= u_hat;
+        const double ratio = norm(error_hat) / std::sqrt(estimate.e_squared);
+        statistics_table.add_value("effectivity", estimate.eps / eps_ex);
+        statistics_table.add_value("prager_synge_ratio", ratio);
+        std::cout << ", effectivity " << estimate.eps / eps_ex
+                  << ", ||U_ref - U^|| / e = " << ratio;
+      }
+    std::cout << std::setprecision(6) << std::endl;
+  }
+
+
+
+  template <int dim>
+  const LA::SparseMatrix &
+  SignoriniProblem<dim>::stiffness_matrix() const
+  {
+    return stiffness;
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::solve_once()
+  {
+    make_grid();
+    setup_system();
+    assemble_system();
+    solve_contact(0);
   }
 
 
@@ -615,6 +747,34 @@ namespace Signorini
       std::ofstream out(output_directory + "/parameters.prm");
       prm.print_parameters(out, ParameterHandler::PRM);
     }
+    if (reference_extra_levels > 0)
+      {
+        // Same input, finer initial mesh, one cycle, no estimate, no output
+        std::cout << "Reference solution" << std::endl;
+        TimerOutput::Scope t(timer, "reference solution");
+        std::ostringstream parameters;
+        prm.print_parameters(parameters, ParameterHandler::ShortPRM);
+        reference_parameters            = std::make_unique<ParameterHandler>();
+        ParameterHandler &reference_prm = *reference_parameters;
+        SignoriniProblem<dim>::declare_parameters(reference_prm);
+        reference_prm.parse_input_from_string(parameters.str());
+        reference_prm.enter_subsection("Mesh");
+        reference_prm.set("Initial refinements",
+                          static_cast<long int>(mesh_input.initial_refinements +
+                                                n_cycles - 1 +
+                                                reference_extra_levels));
+        reference_prm.leave_subsection();
+        reference_prm.enter_subsection("Error estimator");
+        reference_prm.set("Enable", false);
+        reference_prm.leave_subsection();
+        reference_prm.enter_subsection("Reference solution");
+        reference_prm.set("Extra refinements", 0l);
+        reference_prm.leave_subsection();
+        reference =
+          std::make_unique<SignoriniProblem<dim>>(reference_prm,
+                                                  mesh_input.input_directory);
+        reference->solve_once();
+      }
     for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
       {
         if (cycle == 0)
@@ -634,6 +794,8 @@ namespace Signorini
         solve_contact(cycle);
         if (exact_solution)
           compute_exact_error();
+        if (reference)
+          compare_with_reference();
         output_results(cycle);
         if (!last_solve_converged)
           throw std::runtime_error(

@@ -18,6 +18,7 @@
 #include <signorini/contact/solution_checks.h>
 #include <signorini/contact/solver.h>
 #include <signorini/csv_table.h>
+#include <signorini/estimator/constitutive_relation_error.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
 #include <signorini/material.h>
@@ -73,6 +74,14 @@ namespace Signorini
     const DoFHandler<dim> &
     get_dof_handler() const;
 
+    /// The unconstrained stiffness matrix: a(u, v) = u^T K v.
+    const LA::SparseMatrix &
+    stiffness_matrix() const;
+
+    /// Solve the first cycle only and keep the result (a reference solution).
+    void
+    solve_once();
+
   private:
     void
     make_grid();
@@ -88,6 +97,14 @@ namespace Signorini
 
     void
     compute_exact_error();
+
+    /// eps_ex, the effectivity and the Prager-Synge check against the
+    /// reference solution.
+    void
+    compare_with_reference();
+
+    void
+    estimate_error(const DiscreteContactProblem<dim> &problem);
 
     /// The active set of the previous cycle carried to the current contact
     /// nodes (empty if there is none or the option is off).
@@ -142,6 +159,15 @@ namespace Signorini
     Vector<double>   dual_solution;
     bool             last_solve_converged = true;
     ElasticitySolver linear_solver;
+
+    // Error in constitutive relation
+    ConstitutiveRelationError<dim>                  estimator;
+    typename ConstitutiveRelationError<dim>::Result estimate;
+    LA::Vector                                      admissible_displacement;
+    double                                          estimate_seconds       = 0.;
+    unsigned int                                    reference_extra_levels = 0;
+    std::unique_ptr<ParameterHandler>               reference_parameters;
+    std::unique_ptr<SignoriniProblem<dim>>          reference;
 
     // Output
     TimerOutput                                 timer;

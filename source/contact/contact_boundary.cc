@@ -324,6 +324,15 @@ namespace Signorini
 
 
   template <int dim>
+  double
+  ContactBoundary<dim>::gap(const Point<dim> &x) const
+  {
+    return gap_function->value(x);
+  }
+
+
+
+  template <int dim>
   Vector<double>
   ContactBoundary<dim>::normal_displacements(const LA::Vector &u) const
   {

@@ -106,8 +106,23 @@ namespace Signorini
     LA::Vector           &u,
     const double          relative_tolerance) const
   {
+    return solve_with_normal_forces(contact_condition.nodal_forces(y),
+                                    u,
+                                    relative_tolerance);
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  DiscreteContactProblem<dim>::solve_with_normal_forces(
+    const Vector<double> &forces,
+    LA::Vector           &u,
+    const double          relative_tolerance) const
+  {
     LA::Vector load(load_vector);
-    contact_boundary.add_normal_forces(contact_condition.nodal_forces(y), load);
+    if (forces.size() > 0)
+      contact_boundary.add_normal_forces(forces, load);
     load.compress(VectorOperation::add);
     return linear_solver.solve(base_constraints, load, u, relative_tolerance);
   }

@@ -89,6 +89,10 @@ namespace Signorini
     const Vector<double> &
     weighted_gap() const;
 
+    /// The initial gap g at a point of GC.
+    double
+    gap(const Point<dim> &x) const;
+
     /// q_N: u(x_k) . nu_c for every node.
     Vector<double>
     normal_displacements(const LA::Vector &displacement) const;

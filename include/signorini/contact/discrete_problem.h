@@ -68,6 +68,13 @@ namespace Signorini
     void
     update_preconditioner(const std::vector<bool> &active) const;
 
+    /// Solve K u = F + sum_k forces_k nu_c (at node k of GC) under the base
+    /// constraints.
+    unsigned int
+    solve_with_normal_forces(const Vector<double> &forces,
+                             LA::Vector           &u,
+                             const double relative_tolerance = 0.) const;
+
     /// Solve K u = F - B^T y under the base constraints.
     unsigned int
     solve_with_dual(const Vector<double> &y,

@@ -1,0 +1,84 @@
+#ifndef signorini_estimator_constitutive_relation_error_h
+#define signorini_estimator_constitutive_relation_error_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/vector.h>
+#include <memory>
+#include <signorini/boundary_conditions.h>
+#include <signorini/contact/discrete_problem.h>
+#include <signorini/estimator/stress_reconstruction.h>
+#include <signorini/linear_algebra.h>
+#include <signorini/material.h>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The error in constitutive relation for unilateral contact (paper
+   * sections 3 and 5, spec sections 3 and 4).
+   *
+   * Admissible fields from the finite element solution (U_h, Lambda):
+   * - integral condition: R^_n = Lambda (<= 0), U^ = U_h except the normal
+   *   component at the contact nodes, min(U_hn, G);
+   * - pointwise condition: U^ = U_h, R^_n = min(Lambda, 0); if some
+   *   Lambda_i > 0, sigma_h is no longer in equilibrium with R^ and one more
+   *   elasticity problem with the loads (f_d, F_d, R^) gives the stress
+   *   sigma~_h that is equilibrated instead;
+   * - sigma^ from a StressReconstruction (element equilibration).
+   *
+   * Then, per element E and with D = ||sigma^ + K eps(U^)||^2 + 2 int R^_n
+   * (W^_n - g):
+   *   eps_E^2 = (||sigma^ - K eps(U^)||^2_E + 2 int_{GC cap dE} R^_n (W^_n -
+   * g)) / D  [10] and eps^2 = sum_E eps_E^2 [11].
+   */
+  template <int dim>
+  class ConstitutiveRelationError
+  {
+  public:
+    struct Result
+    {
+      double         eps          = 0.; ///< [9]
+      double         eps_contact  = 0.; ///< share of the contact term in eps^2
+      double         e_squared    = 0.; ///< e^2 [8], [14]
+      double         denominator  = 0.; ///< D
+      double         contact_term = 0.; ///< 2 int R^_n (W^_n - g) >= 0
+      Vector<float>  local;             ///< eps_E per active cell
+      Vector<double> contact_local;     ///< contact term per active cell
+      double         equilibrium_defect   = 0.;
+      double         prolongation_defect  = 0.;
+      unsigned int   positive_multipliers = 0; ///< pointwise: Lambda_i > 0
+    };
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    bool
+    enabled() const;
+
+    /**
+     * Estimate the error of (u_h, y) on the problem's mesh; @p
+     * admissible_displacement receives U^.
+     */
+    Result
+    estimate(const DiscreteContactProblem<dim> &problem,
+             const Mapping<dim>                &mapping,
+             const DoFHandler<dim>             &dof_handler,
+             const LinearElasticMaterial<dim>  &material,
+             const BoundaryConditions<dim>     &boundary_conditions,
+             const LA::Vector                  &u_h,
+             const Vector<double>              &y,
+             LA::Vector                        &admissible_displacement);
+
+  private:
+    bool                                       is_enabled = false;
+    std::unique_ptr<StressReconstruction<dim>> reconstruction;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,57 @@
+#ifndef signorini_estimator_element_equilibration_h
+#define signorini_estimator_element_equilibration_h
+
+#include <signorini/estimator/stress_reconstruction.h>
+
+namespace Signorini
+{
+  /**
+   * The element equilibration technique of Ladeveze and Pelle ([LAD 91],
+   * spec section 4) for P1 triangles:
+   *
+   * 1. Traction densities F^_E, linear on every edge, with F^_E + F^_E' = 0
+   *    on interior edges, F^ = F_d on loaded edges, F^ = R^ on GC, free on
+   *    the Dirichlet part, satisfying the prolongation condition
+   *      int_dE F^_E . phi_i = int_E sigma_h : eps(phi_i) - int_E f_d . phi_i
+   *    for every vertex function phi_i of E. For each vertex and component
+   *    this is a small system for the edge projections b_G(i) =
+   *    int_G F^ phi_i; among its solutions the one closest (least squares)
+   *    to the projections of the averaged finite element tractions is taken
+   *    (a one-parameter family at interior vertices). The two projections of
+   *    an edge then give its linear density.
+   * 2. sigma^ = K eps(v) on each element from the Neumann problem with data
+   *    (f_d, F^_E) in complete polynomials of degree "Local degree" (p + k),
+   *    rigid motions removed from the basis.
+   *
+   * Meshes with hanging nodes are not supported (the adaptation builds
+   * conforming meshes).
+   */
+  template <int dim>
+  class ElementEquilibration : public StressReconstruction<dim>
+  {
+  public:
+    explicit ElementEquilibration(const unsigned int local_degree = 3);
+
+    std::string
+    name() const override;
+
+    void
+    compute(const EquilibrationInput<dim> &input,
+            const LA::Vector              &admissible_displacement,
+            Vector<double>                &error_squared,
+            Vector<double>                &sum_squared) override;
+
+    double
+    equilibrium_defect() const override;
+
+    double
+    prolongation_defect() const override;
+
+  private:
+    unsigned int local_degree;
+    double       max_equilibrium_defect  = 0.;
+    double       max_prolongation_defect = 0.;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,77 @@
+#ifndef signorini_estimator_stress_reconstruction_h
+#define signorini_estimator_stress_reconstruction_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/vector.h>
+#include <memory>
+#include <signorini/boundary_conditions.h>
+#include <signorini/contact/contact_boundary.h>
+#include <signorini/linear_algebra.h>
+#include <signorini/material.h>
+#include <string>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * What a stress reconstruction needs: the mesh and element, the material,
+   * the loads (body force, tractions, the admissible contact reaction R^ =
+   * R^_n nu_c given by its values at the nodes of GC) and a finite element
+   * displacement whose stress sigma_h is in finite element equilibrium with
+   * these loads (U_h, or U~_h for the pointwise condition when some
+   * Lambda_i > 0, spec section 4).
+   */
+  template <int dim>
+  struct EquilibrationInput
+  {
+    const Mapping<dim>               &mapping;
+    const DoFHandler<dim>            &dof_handler;
+    const LinearElasticMaterial<dim> &material;
+    const BoundaryConditions<dim>    &boundary_conditions;
+    const ContactBoundary<dim>       &contact_boundary;
+    const Vector<double>             &normal_reaction;
+    const LA::Vector                 &equilibrated_displacement;
+  };
+
+  /**
+   * Construction of a statically admissible stress field sigma^ from a finite
+   * element solution (spec section 4). The interface the error estimator
+   * uses; the element equilibration technique is one implementation, a
+   * strictly admissible variant can be another.
+   */
+  template <int dim>
+  class StressReconstruction
+  {
+  public:
+    virtual ~StressReconstruction() = default;
+
+    virtual std::string
+    name() const = 0;
+
+    /**
+     * Build sigma^ and return, for every active cell (by active cell index),
+     * ||sigma^ - K eps(U^)||^2_{sigma,E} in @p error_squared and
+     * ||sigma^ + K eps(U^)||^2_{sigma,E} in @p sum_squared, U^ being
+     * @p admissible_displacement.
+     */
+    virtual void
+    compute(const EquilibrationInput<dim> &input,
+            const LA::Vector              &admissible_displacement,
+            Vector<double>                &error_squared,
+            Vector<double>                &sum_squared) = 0;
+
+    /// Largest relative defect of the element equilibrium of the data of
+    /// the local problems (resultant and moment): round-off if correct.
+    virtual double
+    equilibrium_defect() const = 0;
+
+    /// Largest relative defect of the prolongation condition.
+    virtual double
+    prolongation_defect() const = 0;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,187 @@
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <signorini/estimator/constitutive_relation_error.h>
+#include <signorini/estimator/element_equilibration.h>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  ConstitutiveRelationError<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Error estimator");
+    prm.declare_entry(
+      "Enable",
+      "true",
+      Patterns::Bool(),
+      "Compute the error in constitutive relation (eps, eps_E).");
+    prm.declare_entry("Local degree",
+                      "3",
+                      Patterns::Integer(2, 6),
+                      "Polynomial degree p + k of the local problems of the "
+                      "element equilibration (p = 1).");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  ConstitutiveRelationError<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Error estimator");
+    is_enabled     = prm.get_bool("Enable");
+    reconstruction = std::make_unique<ElementEquilibration<dim>>(
+      prm.get_integer("Local degree"));
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  bool
+  ConstitutiveRelationError<dim>::enabled() const
+  {
+    return is_enabled;
+  }
+
+
+
+  template <int dim>
+  typename ConstitutiveRelationError<dim>::Result
+  ConstitutiveRelationError<dim>::estimate(
+    const DiscreteContactProblem<dim> &problem,
+    const Mapping<dim>                &mapping,
+    const DoFHandler<dim>             &dof_handler,
+    const LinearElasticMaterial<dim>  &material,
+    const BoundaryConditions<dim>     &boundary_conditions,
+    const LA::Vector                  &u_h,
+    const Vector<double>              &y,
+    LA::Vector                        &admissible_displacement)
+  {
+    Result      result;
+    const auto &boundary  = problem.boundary();
+    const auto &condition = problem.condition();
+    const bool  integral  = (condition.name() == "integral");
+
+    // R^_n at every node of GC (zero where there is no multiplier)
+    const Vector<double> lambda = condition.multiplier(y);
+    Vector<double>       normal_reaction(boundary.n_nodes());
+    const auto          &multiplier_nodes = boundary.multiplier_nodes();
+    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+      {
+        normal_reaction[multiplier_nodes[i]] =
+          integral ? lambda[i] : std::min(lambda[i], 0.);
+        result.positive_multipliers += (!integral && lambda[i] > 0.) ? 1 : 0;
+      }
+
+    // U^
+    admissible_displacement = u_h;
+    if (integral)
+      {
+        const Vector<double> q_n = boundary.normal_displacements(u_h);
+        for (const unsigned int k : multiplier_nodes)
+          {
+            const double excess = q_n[k] - boundary.nodal_gap()[k];
+            if (excess > 0.)
+              for (unsigned int c = 0; c < dim; ++c)
+                admissible_displacement[boundary.node(k).dofs[c]] -=
+                  excess * boundary.direction()[c];
+          }
+        admissible_displacement.compress(VectorOperation::add);
+      }
+
+    // The displacement whose stress is in FE equilibrium with R^
+    LA::Vector equilibrated(u_h);
+    if (result.positive_multipliers > 0)
+      {
+        // nodal forces of R^: (M R^_n)_k nu_c
+        Vector<double> forces(boundary.n_nodes());
+        boundary.mass_matrix().vmult(forces, normal_reaction);
+        problem.solve_with_normal_forces(forces, equilibrated);
+      }
+
+    // sigma^ and the volume terms
+    Vector<double>                error_squared, sum_squared;
+    const EquilibrationInput<dim> input{mapping,
+                                        dof_handler,
+                                        material,
+                                        boundary_conditions,
+                                        boundary,
+                                        normal_reaction,
+                                        equilibrated};
+    reconstruction->compute(input,
+                            admissible_displacement,
+                            error_squared,
+                            sum_squared);
+    result.equilibrium_defect  = reconstruction->equilibrium_defect();
+    result.prolongation_defect = reconstruction->prolongation_defect();
+
+    // the contact term 2 int_GC R^_n (W^_n - g), per cell
+    result.contact_local.reinit(error_squared.size());
+    if (boundary.n_nodes() > 0)
+      {
+        const QGauss<dim - 1>                face_quadrature(4);
+        FEFaceValues<dim>                    fe_face_values(mapping,
+                                         dof_handler.get_fe(),
+                                         face_quadrature,
+                                         update_values |
+                                           update_quadrature_points |
+                                           update_JxW_values);
+        const FEValuesExtractors::Vector     displacement(0);
+        std::vector<Tensor<1, dim>>          w_hat(face_quadrature.size());
+        std::map<unsigned int, unsigned int> node_of_vertex;
+        for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
+          node_of_vertex[boundary.node(k).vertex] = k;
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary() &&
+                boundary.boundary_ids().count(cell->face(f)->boundary_id()) !=
+                  0)
+              {
+                fe_face_values.reinit(cell, f);
+                fe_face_values[displacement].get_function_values(
+                  admissible_displacement, w_hat);
+                const Point<dim> a = cell->face(f)->vertex(0);
+                const double     r0 =
+                  normal_reaction[node_of_vertex[cell->face(f)->vertex_index(
+                    0)]];
+                const double r1 =
+                  normal_reaction[node_of_vertex[cell->face(f)->vertex_index(
+                    1)]];
+                const double length = cell->face(f)->measure();
+                for (const unsigned int q :
+                     fe_face_values.quadrature_point_indices())
+                  {
+                    const Point<dim> &x = fe_face_values.quadrature_point(q);
+                    const double      s = x.distance(a) / length;
+                    const double      r = (1. - s) * r0 + s * r1;
+                    result.contact_local[cell->active_cell_index()] +=
+                      2. * r *
+                      (w_hat[q] * boundary.direction() - boundary.gap(x)) *
+                      fe_face_values.JxW(q);
+                  }
+              }
+      }
+
+    result.contact_term =
+      result.contact_local.size() > 0 ?
+        result.contact_local.mean_value() * result.contact_local.size() :
+        0.;
+    const double volume_error =
+      error_squared.mean_value() * error_squared.size();
+    const double volume_sum = sum_squared.mean_value() * sum_squared.size();
+    result.e_squared        = volume_error + result.contact_term;
+    result.denominator      = volume_sum + result.contact_term;
+    result.eps              = std::sqrt(result.e_squared / result.denominator);
+    result.eps_contact      = result.contact_term / result.e_squared;
+    result.local.reinit(error_squared.size());
+    for (unsigned int E = 0; E < error_squared.size(); ++E)
+      result.local[E] =
+        std::sqrt(std::max(error_squared[E] + result.contact_local[E], 0.) /
+                  result.denominator);
+    return result;
+  }
+
+  template class ConstitutiveRelationError<2>;
+} // namespace Signorini
