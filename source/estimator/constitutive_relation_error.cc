@@ -20,6 +20,13 @@ namespace Signorini
                       Patterns::Integer(2, 6),
                       "Polynomial degree p + k of the local problems of the "
                       "element equilibration (p = 1).");
+    prm.declare_entry("Optimisation sweeps",
+                      "0",
+                      Patterns::Integer(0, 20),
+                      "0: free parameters of the traction densities by least "
+                      "squares to the averaged FE tractions (classical EET); "
+                      "> 0: Gauss-Seidel sweeps minimising the error measure "
+                      "over them instead.");
     prm.leave_subsection();
   }
 
@@ -32,7 +39,7 @@ namespace Signorini
     prm.enter_subsection("Error estimator");
     is_enabled     = prm.get_bool("Enable");
     reconstruction = std::make_unique<ElementEquilibration<dim>>(
-      prm.get_integer("Local degree"));
+      prm.get_integer("Local degree"), prm.get_integer("Optimisation sweeps"));
     prm.leave_subsection();
   }
 

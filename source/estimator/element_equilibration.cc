@@ -4,6 +4,7 @@
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <map>
 #include <signorini/estimator/element_equilibration.h>
+#include <tuple>
 
 namespace Signorini
 {
@@ -110,8 +111,10 @@ namespace Signorini
 
   template <int dim>
   ElementEquilibration<dim>::ElementEquilibration(
-    const unsigned int local_degree)
+    const unsigned int local_degree,
+    const unsigned int optimisation_sweeps)
     : local_degree(local_degree)
+    , optimisation_sweeps(optimisation_sweeps)
   {}
 
 
@@ -308,6 +311,12 @@ namespace Signorini
       }
 
     // --- 2. vertex patches: edge projections b_G(i) ----------------------
+    struct FreeDirection
+    {
+      unsigned int vertex, component;
+      std::vector<std::tuple<unsigned int, unsigned int, double>> entries;
+    };
+    std::vector<FreeDirection>             free_directions;
     std::vector<std::vector<unsigned int>> cells_of_vertex(
       triangulation.n_vertices());
     for (unsigned int E = 0; E < n_cells; ++E)
@@ -396,6 +405,36 @@ namespace Signorini
                     faces[f].projection[k][c] = b[u];
                   }
               }
+            // directions b -> b + t z, A z = 0, that keep the prolongation
+            // condition: the free parameters of the patch
+            if (optimisation_sweeps > 0 && n_un > 0)
+              {
+                LAPACKFullMatrix<double> A_svd(n_eq, n_un);
+                for (unsigned int i = 0; i < n_eq; ++i)
+                  for (unsigned int u = 0; u < n_un; ++u)
+                    A_svd(i, u) = A(i, u);
+                A_svd.compute_svd();
+                double       largest = 0.;
+                unsigned int rank    = 0;
+                for (unsigned int i = 0; i < std::min(n_eq, n_un); ++i)
+                  largest = std::max(largest, A_svd.singular_value(i));
+                for (unsigned int i = 0; i < std::min(n_eq, n_un); ++i)
+                  rank += (A_svd.singular_value(i) > 1e-10 * largest) ? 1 : 0;
+                const auto &vt = A_svd.get_svd_vt();
+                for (unsigned int r = rank; r < n_un; ++r)
+                  {
+                    FreeDirection direction;
+                    direction.vertex    = vertex;
+                    direction.component = c;
+                    for (unsigned int u = 0; u < n_un; ++u)
+                      if (std::abs(vt(r, u)) > 1e-14)
+                        direction.entries.emplace_back(
+                          patch_faces[unknown[u]].first,
+                          patch_faces[unknown[u]].second,
+                          vt(r, u));
+                    free_directions.push_back(direction);
+                  }
+              }
             // prolongation condition residual of this patch
             Vector<double> check(n_eq);
             if (n_un > 0)
@@ -423,106 +462,231 @@ namespace Signorini
             data.density[1][c] = 2. / data.length * (2. * b1 - b0);
           }
 
-    // --- 4. local Neumann problems and the error per element ------------
-    const LocalBasis                   basis(local_degree);
-    const unsigned int                 n = basis.size();
-    const QWitherdenVincentSimplex<2>  cell_rule(4);
-    const QGauss<1>                    edge_rule(4);
+    // --- 4. local Neumann problems -----------------------------------------
+    const LocalBasis                  basis(local_degree);
+    const unsigned int                n = basis.size();
+    const QWitherdenVincentSimplex<2> cell_rule(4);
+    const QGauss<1>                   edge_rule(4);
+
+    struct Geometry
+    {
+      Point<2>     x0, center;
+      Tensor<2, 2> J;
+      double       det, h;
+    };
+    const auto geometry = [&](const auto &cell) {
+      Geometry g;
+      g.x0 = cell->vertex(0);
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          g.J[d][0] = cell->vertex(1)[d] - g.x0[d];
+          g.J[d][1] = cell->vertex(2)[d] - g.x0[d];
+        }
+      g.det    = std::abs(determinant(g.J));
+      g.center = cell->center();
+      g.h      = 0.;
+      for (const unsigned int f : cell->face_indices())
+        g.h =
+          std::max(g.h, faces[cell_faces[cell->active_cell_index()][f]].length);
+      return g;
+    };
+
+    // factorised local stiffness matrix
+    const auto local_matrix = [&](const Geometry &g) {
+      std::vector<Tensor<1, 2>>          values;
+      std::vector<SymmetricTensor<2, 2>> strains;
+      LAPACKFullMatrix<double>           stiffness(n, n);
+      for (unsigned int q = 0; q < cell_rule.size(); ++q)
+        {
+          const Point<2> x = g.x0 + g.J * cell_rule.point(q);
+          basis.evaluate(x, g.center, g.h, values, strains);
+          const double JxW = cell_rule.weight(q) * g.det;
+          for (unsigned int a = 0; a < n; ++a)
+            {
+              const SymmetricTensor<2, 2> sigma_a = material.stress(strains[a]);
+              for (unsigned int b = 0; b < n; ++b)
+                stiffness(a, b) += (sigma_a * strains[b]) * JxW;
+            }
+        }
+      stiffness.set_property(LAPACKSupport::symmetric);
+      stiffness.compute_cholesky_factorization();
+      return stiffness;
+    };
+
+    // load of a linear density (nodal values) on face f of cell E
+    const auto add_edge_load = [&](const unsigned int                 E,
+                                   const Geometry                    &g,
+                                   const FaceData                    &data,
+                                   const std::array<Tensor<1, 2>, 2> &density,
+                                   Vector<double>                    &load,
+                                   Tensor<1, 2>                      *resultant,
+                                   double                            *moment) {
+      std::vector<Tensor<1, 2>>          values;
+      std::vector<SymmetricTensor<2, 2>> strains;
+      const double   eta = (data.first_cell == E) ? 1. : -1.;
+      const Point<2> a   = triangulation.get_vertices()[data.vertices[0]];
+      const Point<2> b   = triangulation.get_vertices()[data.vertices[1]];
+      for (unsigned int q = 0; q < edge_rule.size(); ++q)
+        {
+          const double       s = edge_rule.point(q)[0];
+          const Point<2>     x = a + s * (b - a);
+          const Tensor<1, 2> F = eta * ((1. - s) * density[0] + s * density[1]);
+          const double       JxW = edge_rule.weight(q) * data.length;
+          if (resultant != nullptr)
+            {
+              *resultant += F * JxW;
+              *moment += cross_product_2d(x - g.center) * F * JxW;
+            }
+          basis.evaluate(x, g.center, g.h, values, strains);
+          for (unsigned int k = 0; k < n; ++k)
+            load[k] += (F * values[k]) * JxW;
+        }
+    };
+
+    // full load of a cell (body force with the rule of the assembly, so
+    // that the element data are in equilibrium to round-off), and checks
+    const auto local_load = [&](const auto &cell, const Geometry &g) {
+      const unsigned int                 E = cell->active_cell_index();
+      std::vector<Tensor<1, 2>>          values;
+      std::vector<SymmetricTensor<2, 2>> strains;
+      Vector<double>                     load(n);
+      Tensor<1, 2>                       resultant;
+      double                             moment = 0., data_scale = 0.;
+      std::vector<Point<2>>              points(quadrature.size());
+      std::vector<Vector<double>>        f_values(quadrature.size(),
+                                           Vector<double>(2));
+      for (unsigned int q = 0; q < quadrature.size(); ++q)
+        points[q] = g.x0 + g.J * quadrature.point(q);
+      bc.body_force->vector_value_list(points, f_values);
+      for (unsigned int q = 0; q < quadrature.size(); ++q)
+        {
+          const double JxW = quadrature.weight(q) * g.det;
+          basis.evaluate(points[q], g.center, g.h, values, strains);
+          const Tensor<1, 2> f({f_values[q][0], f_values[q][1]});
+          resultant += f * JxW;
+          moment += cross_product_2d(points[q] - g.center) * f * JxW;
+          data_scale += f.norm() * JxW;
+          for (unsigned int a = 0; a < n; ++a)
+            load[a] += (f * values[a]) * JxW;
+        }
+      for (const unsigned int f : cell->face_indices())
+        {
+          const FaceData &data = faces[cell_faces[E][f]];
+          add_edge_load(E, g, data, data.density, load, &resultant, &moment);
+          data_scale += 0.5 *
+                        (data.density[0].norm() + data.density[1].norm()) *
+                        data.length;
+        }
+      if (data_scale > 0.)
+        max_equilibrium_defect =
+          std::max({max_equilibrium_defect,
+                    resultant.norm() / data_scale,
+                    std::abs(moment) / (data_scale * g.h)});
+      return load;
+    };
+
+    // coefficients of U^ (its strain) in the local basis: xi e_x, eta e_y,
+    // eta e_x + xi e_y carry h eps_xx, h eps_yy, h eps_xy
+    const auto admissible_coefficients = [&](const unsigned int E,
+                                             const Geometry    &g) {
+      Vector<double> u_hat(n);
+      u_hat[0] = g.h * strain_hat[E][0][0];
+      u_hat[1] = g.h * strain_hat[E][1][1];
+      u_hat[2] = g.h * strain_hat[E][0][1];
+      return u_hat;
+    };
+
+    // --- 5. optional: energy-optimal choice within the admissible family --
+    if (optimisation_sweeps > 0)
+      {
+        // w_E = v_E - U^_E, the local error field, per cell
+        std::vector<Vector<double>> w(n_cells);
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          {
+            const unsigned int E = cell->active_cell_index();
+            const Geometry     g = geometry(cell);
+            w[E]                 = local_load(cell, g);
+            local_matrix(g).solve(w[E]);
+            w[E] -= admissible_coefficients(E, g);
+          }
+        std::vector<typename DoFHandler<dim>::active_cell_iterator> cell_of(
+          n_cells);
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          cell_of[cell->active_cell_index()] = cell;
+        for (unsigned int sweep = 0; sweep < optimisation_sweeps; ++sweep)
+          for (const auto &direction : free_directions)
+            {
+              // change of the densities along the direction, per cell
+              const auto &patch = cells_of_vertex[direction.vertex];
+              std::vector<Vector<double>> delta_load(patch.size(),
+                                                     Vector<double>(n));
+              std::vector<Vector<double>> delta_w(patch.size());
+              double                      numerator = 0., denominator = 0.;
+              for (unsigned int e = 0; e < patch.size(); ++e)
+                {
+                  const unsigned int E = patch[e];
+                  const Geometry     g = geometry(cell_of[E]);
+                  for (const auto &[f, k, value] : direction.entries)
+                    {
+                      const FaceData &data = faces[f];
+                      if (data.first_cell != E && data.second_cell != E)
+                        continue;
+                      std::array<Tensor<1, 2>, 2> density;
+                      density[k][direction.component] =
+                        4. / data.length * value;
+                      density[1 - k][direction.component] =
+                        -2. / data.length * value;
+                      add_edge_load(
+                        E, g, data, density, delta_load[e], nullptr, nullptr);
+                    }
+                  delta_w[e] = delta_load[e];
+                  local_matrix(g).solve(delta_w[e]);
+                  numerator += w[E] * delta_load[e];
+                  denominator += delta_w[e] * delta_load[e];
+                }
+              if (denominator <= 0.)
+                continue;
+              const double t = -numerator / denominator;
+
+              for (unsigned int e = 0; e < patch.size(); ++e)
+                w[patch[e]].add(t, delta_w[e]);
+              for (const auto &[f, k, value] : direction.entries)
+                faces[f].projection[k][direction.component] += t * value;
+              for (const auto &[f, k, value] : direction.entries)
+                {
+                  (void)k;
+                  (void)value;
+                  FaceData &data = faces[f];
+                  for (unsigned int c = 0; c < dim; ++c)
+                    {
+                      const double b0    = data.projection[0][c],
+                                   b1    = data.projection[1][c];
+                      data.density[0][c] = 2. / data.length * (2. * b0 - b1);
+                      data.density[1][c] = 2. / data.length * (2. * b1 - b0);
+                    }
+                }
+            }
+      }
+
+    // --- 6. sigma^ = K eps(v) and the error per element -------------------
     std::vector<Tensor<1, 2>>          values;
     std::vector<SymmetricTensor<2, 2>> strains;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        const unsigned int E  = cell->active_cell_index();
-        const Point<2>     x0 = cell->vertex(0);
-        Tensor<2, 2>       J;
-        for (unsigned int d = 0; d < 2; ++d)
-          {
-            J[d][0] = cell->vertex(1)[d] - x0[d];
-            J[d][1] = cell->vertex(2)[d] - x0[d];
-          }
-        const double   det    = std::abs(determinant(J));
-        const Point<2> center = cell->center();
-        double         h      = 0.;
-        for (const unsigned int f : cell->face_indices())
-          h = std::max(h, faces[cell_faces[E][f]].length);
-
-        LAPACKFullMatrix<double> stiffness(n, n);
-        Vector<double>           load(n);
-        Tensor<1, 2>             resultant;
-        double                   moment = 0., data_scale = 0.;
-        std::vector<Point<2>>    points(cell_rule.size());
-        for (unsigned int q = 0; q < cell_rule.size(); ++q)
-          points[q] = x0 + J * cell_rule.point(q);
-        for (unsigned int q = 0; q < cell_rule.size(); ++q)
-          {
-            const double JxW = cell_rule.weight(q) * det;
-            basis.evaluate(points[q], center, h, values, strains);
-            for (unsigned int a = 0; a < n; ++a)
-              {
-                const SymmetricTensor<2, 2> sigma_a =
-                  material.stress(strains[a]);
-                for (unsigned int b = 0; b < n; ++b)
-                  stiffness(a, b) += (sigma_a * strains[b]) * JxW;
-              }
-          }
-        // body force with the rule of the assembly, so that the element data
-        // are in equilibrium to round-off
-        std::vector<Point<2>> force_points(quadrature.size());
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          force_points[q] = x0 + J * quadrature.point(q);
-        bc.body_force->vector_value_list(force_points, force);
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          {
-            const double JxW = quadrature.weight(q) * det;
-            basis.evaluate(force_points[q], center, h, values, strains);
-            Tensor<1, 2> f;
-            f[0] = force[q][0];
-            f[1] = force[q][1];
-            resultant += f * JxW;
-            moment += cross_product_2d(force_points[q] - center) * f * JxW;
-            for (unsigned int a = 0; a < n; ++a)
-              load[a] += (f * values[a]) * JxW;
-          }
-        for (const unsigned int f : cell->face_indices())
-          {
-            const FaceData &data = faces[cell_faces[E][f]];
-            const double    eta  = (data.first_cell == E) ? 1. : -1.;
-            const Point<2>  a = triangulation.get_vertices()[data.vertices[0]];
-            const Point<2>  b = triangulation.get_vertices()[data.vertices[1]];
-            for (unsigned int q = 0; q < edge_rule.size(); ++q)
-              {
-                const double       s = edge_rule.point(q)[0];
-                const Point<2>     x = a + s * (b - a);
-                const Tensor<1, 2> F =
-                  eta * ((1. - s) * data.density[0] + s * data.density[1]);
-                const double JxW = edge_rule.weight(q) * data.length;
-                resultant += F * JxW;
-                moment += cross_product_2d(x - center) * F * JxW;
-                data_scale += F.norm() * JxW;
-                basis.evaluate(x, center, h, values, strains);
-                for (unsigned int k = 0; k < n; ++k)
-                  load[k] += (F * values[k]) * JxW;
-              }
-          }
-        if (data_scale > 0.)
-          max_equilibrium_defect =
-            std::max({max_equilibrium_defect,
-                      resultant.norm() / data_scale,
-                      std::abs(moment) / (data_scale * h)});
-
-        stiffness.set_property(LAPACKSupport::symmetric);
-        stiffness.compute_cholesky_factorization();
-        stiffness.solve(load);
-
+        const unsigned int E = cell->active_cell_index();
+        const Geometry     g = geometry(cell);
+        Vector<double>     v = local_load(cell, g);
+        local_matrix(g).solve(v);
         // ||sigma^ -/+ K eps(U^)||^2 = int (eps(v) -/+ eps(U^)) : K : (...)
         double error = 0., sum = 0.;
         for (unsigned int q = 0; q < cell_rule.size(); ++q)
           {
-            const double JxW = cell_rule.weight(q) * det;
-            basis.evaluate(points[q], center, h, values, strains);
+            const Point<2> x   = g.x0 + g.J * cell_rule.point(q);
+            const double   JxW = cell_rule.weight(q) * g.det;
+            basis.evaluate(x, g.center, g.h, values, strains);
             SymmetricTensor<2, 2> eps_v;
             for (unsigned int a = 0; a < n; ++a)
-              eps_v += load[a] * strains[a];
+              eps_v += v[a] * strains[a];
             const SymmetricTensor<2, 2> minus = eps_v - strain_hat[E];
             const SymmetricTensor<2, 2> plus  = eps_v + strain_hat[E];
             error += (material.stress(minus) * minus) * JxW;

@@ -30,7 +30,14 @@ namespace Signorini
   class ElementEquilibration : public StressReconstruction<dim>
   {
   public:
-    explicit ElementEquilibration(const unsigned int local_degree = 3);
+    /**
+     * @p optimisation_sweeps > 0 replaces the least-squares choice of the
+     * free parameters of the patches by Gauss-Seidel sweeps that minimise
+     * sum_E ||sigma^ - K eps(U^)||^2_E along each free direction (the
+     * equilibrium and prolongation conditions are kept exactly).
+     */
+    explicit ElementEquilibration(const unsigned int local_degree        = 3,
+                                  const unsigned int optimisation_sweeps = 0);
 
     std::string
     name() const override;
@@ -49,6 +56,7 @@ namespace Signorini
 
   private:
     unsigned int local_degree;
+    unsigned int optimisation_sweeps;
     double       max_equilibrium_defect  = 0.;
     double       max_prolongation_defect = 0.;
   };
