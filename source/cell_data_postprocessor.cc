@@ -4,8 +4,9 @@
 namespace Signorini
 {
   template <int dim>
-  CellDataPostprocessor<dim>::CellDataPostprocessor(const std::string   &name,
-                                                    const Vector<float> &values)
+  CellDataPostprocessor<dim>::CellDataPostprocessor(
+    const std::string    &name,
+    const Vector<double> &values)
     : DataPostprocessorScalar<dim>(name, update_default)
     , values(values)
   {}

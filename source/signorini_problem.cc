@@ -708,6 +708,15 @@ namespace Signorini
 
 
   template <int dim>
+  const typename ConstitutiveRelationError<dim>::Result &
+  SignoriniProblem<dim>::error_estimate() const
+  {
+    return estimate;
+  }
+
+
+
+  template <int dim>
   const LA::SparseMatrix &
   SignoriniProblem<dim>::stiffness_matrix() const
   {

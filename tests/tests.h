@@ -52,6 +52,7 @@ namespace SignoriniTests
     parse_parameter_file(prm, directory + "/" + prm_file);
     set_entry(prm, "Output/Print timing", "false");
     set_entry(prm, "Output/Write vtu", "false");
+    set_entry(prm, "Error estimator/Enable", "false");
     for (const auto &[path, value] : overrides)
       set_entry(prm, path, value);
 

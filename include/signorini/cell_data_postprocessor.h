@@ -17,7 +17,8 @@ namespace Signorini
   class CellDataPostprocessor : public DataPostprocessorScalar<dim>
   {
   public:
-    CellDataPostprocessor(const std::string &name, const Vector<float> &values);
+    CellDataPostprocessor(const std::string    &name,
+                          const Vector<double> &values);
 
     void
     evaluate_vector_field(
@@ -25,7 +26,7 @@ namespace Signorini
       std::vector<Vector<double>> &computed_quantities) const override;
 
   private:
-    const Vector<float> &values;
+    const Vector<double> &values;
   };
 } // namespace Signorini
 

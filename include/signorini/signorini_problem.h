@@ -74,6 +74,10 @@ namespace Signorini
     const DoFHandler<dim> &
     get_dof_handler() const;
 
+    /// The error estimate of the last cycle.
+    const typename ConstitutiveRelationError<dim>::Result &
+    error_estimate() const;
+
     /// The unconstrained stiffness matrix: a(u, v) = u^T K v.
     const LA::SparseMatrix &
     stiffness_matrix() const;

@@ -45,7 +45,7 @@ namespace Signorini
       double         e_squared    = 0.; ///< e^2 [8], [14]
       double         denominator  = 0.; ///< D
       double         contact_term = 0.; ///< 2 int R^_n (W^_n - g) >= 0
-      Vector<float>  local;             ///< eps_E per active cell
+      Vector<double> local;             ///< eps_E per active cell
       Vector<double> contact_local;     ///< contact term per active cell
       double         equilibrium_defect   = 0.;
       double         prolongation_defect  = 0.;
