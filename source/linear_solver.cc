@@ -94,7 +94,7 @@ namespace Signorini
                         "factorisation, Trilinos ML AMG, or chosen by the "
                         "number of DoFs ('Direct solver limit').");
       prm.declare_entry("Direct solver limit",
-                        "50000",
+                        "10000",
                         Patterns::Integer(0),
                         "With Type = automatic: largest number of DoFs for "
                         "which the direct factorisation is used.");

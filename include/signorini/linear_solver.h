@@ -84,7 +84,7 @@ namespace Signorini
     /// Choose the method by this size unless forced.
     std::string             type                = "automatic";
     std::string             direct_package      = "Amesos_Klu";
-    types::global_dof_index direct_solver_limit = 50000;
+    types::global_dof_index direct_solver_limit = 10000;
     double                  relative_tolerance  = 1e-10;
     unsigned int            max_iterations      = 5000;
 
