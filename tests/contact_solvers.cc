@@ -13,10 +13,7 @@ main(int argc, char **argv)
 {
   using namespace SignoriniTests;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  std::ofstream                    logfile("output");
-  deallog.attach(logfile);
-  deallog.depth_console(0);
-  deallog.depth_file(1);
+  initlog();
 
   const std::map<std::string, std::map<std::string, std::string>> cases = {
     {"block", {{"Mesh/Initial refinements", "2"}, {"Number of cycles", "1"}}},

@@ -28,18 +28,9 @@ namespace
            const std::map<std::string, std::string> &overrides)
   {
     ParameterHandler prm;
-    SignoriniProblem<2>::declare_parameters(prm);
-    const std::string directory = std::string(SOURCE_DIR) + "/../prm";
-    parse_parameter_file(prm, directory + "/" + prm_file);
-    set_entry(prm, "Output/Print timing", "false");
-    set_entry(prm, "Output/Write vtu", "false");
-    for (const auto &[path, value] : overrides)
-      set_entry(prm, path, value);
-    SignoriniProblem<2> problem(prm, directory);
-    std::ostringstream  screen;
-    auto *const         old = std::cout.rdbuf(screen.rdbuf());
-    problem.run();
-    std::cout.rdbuf(old);
+    read_parameters(prm, prm_file, overrides);
+    SignoriniProblem<2> problem(prm, prm_directory());
+    run_quietly(problem);
     Estimate e{problem.error_estimate(), {}};
     for (const auto column : {"cells",
                               "eps",
@@ -74,10 +65,7 @@ int
 main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  std::ofstream                    logfile("output");
-  deallog.attach(logfile);
-  deallog.depth_console(0);
-  deallog.depth_file(1);
+  initlog();
   unsigned int failures = 0;
 
   for (const std::string condition : {"integral", "pointwise"})

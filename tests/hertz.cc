@@ -36,10 +36,7 @@ main(int argc, char **argv)
 {
   using namespace SignoriniTests;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  std::ofstream                    logfile("output");
-  deallog.attach(logfile);
-  deallog.depth_console(0);
-  deallog.depth_file(1);
+  initlog();
 
   const double R = 1., E = 1., nu = 0.3, E_star = E / (1. - nu * nu);
   unsigned int failures = 0;

@@ -9,10 +9,7 @@ main(int argc, char **argv)
 {
   using namespace SignoriniTests;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  std::ofstream                    logfile("output");
-  deallog.attach(logfile);
-  deallog.depth_console(0);
-  deallog.depth_file(1);
+  initlog();
 
   const Result r     = run("manufactured.prm", {});
   const auto  &cells = r.history.at("cells");

@@ -41,26 +41,60 @@ namespace SignoriniTests
     Vector<double>                             dual;
   };
 
-  /// Run @p prm_file (relative to the source tree's prm/) with overrides.
+  /// Directory of the example parameter files.
+  inline std::string
+  prm_directory()
+  {
+    return std::string(SOURCE_DIR) + "/../prm";
+  }
+
+  /// Declare all parameters and read @p prm_file (from prm/) with overrides;
+  /// timing and VTU output off.
+  inline void
+  read_parameters(ParameterHandler                         &prm,
+                  const std::string                        &prm_file,
+                  const std::map<std::string, std::string> &overrides)
+  {
+    SignoriniProblem<2>::declare_parameters(prm);
+    parse_parameter_file(prm, prm_directory() + "/" + prm_file);
+    set_entry(prm, "Output/Print timing", "false");
+    set_entry(prm, "Output/Write vtu", "false");
+    for (const auto &[path, value] : overrides)
+      set_entry(prm, path, value);
+  }
+
+  /// Run @p problem with its screen log swallowed (it is not compared).
+  inline void
+  run_quietly(SignoriniProblem<2> &problem)
+  {
+    std::ostringstream screen;
+    auto *const        old = std::cout.rdbuf(screen.rdbuf());
+    problem.run();
+    std::cout.rdbuf(old);
+  }
+
+  /// Send deallog to the file "output" that the test harness compares.
+  inline std::ofstream &
+  initlog()
+  {
+    static std::ofstream logfile("output");
+    deallog.attach(logfile);
+    deallog.depth_console(0);
+    deallog.depth_file(1);
+    return logfile;
+  }
+
+  /// Run @p prm_file (from prm/) with overrides, without the estimator.
   inline Result
   run(const std::string                        &prm_file,
       const std::map<std::string, std::string> &overrides)
   {
     ParameterHandler prm;
-    SignoriniProblem<2>::declare_parameters(prm);
-    const std::string directory = std::string(SOURCE_DIR) + "/../prm";
-    parse_parameter_file(prm, directory + "/" + prm_file);
-    set_entry(prm, "Output/Print timing", "false");
-    set_entry(prm, "Output/Write vtu", "false");
-    set_entry(prm, "Error estimator/Enable", "false");
-    for (const auto &[path, value] : overrides)
-      set_entry(prm, path, value);
-
-    SignoriniProblem<2> problem(prm, directory);
-    std::ostringstream  screen; // the application's log is not compared
-    auto *const         old = std::cout.rdbuf(screen.rdbuf());
-    problem.run();
-    std::cout.rdbuf(old);
+    auto             o = overrides;
+    o.emplace("Error estimator/Enable", "false");
+    read_parameters(prm, prm_file, o);
+    SignoriniProblem<2> problem(prm, prm_directory());
+    run_quietly(problem);
 
     Result result;
     for (const auto &column : {"cells",
