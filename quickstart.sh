@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Set everything up on a fresh Debian machine (as root) and
 #   bash quickstart.sh example   build in Release (build/) and run prm/block.prm
-#   bash quickstart.sh test      build in Debug (build-debug/) and run the test
-#                                suite, then the bad-input test in Release
+#   bash quickstart.sh test      the bad-input test in Release (build/), then
+#                                the whole test suite in Debug (build-debug/)
 set -euo pipefail
 cd "$(dirname "$0")"
 what=${1:-}
@@ -36,10 +36,10 @@ case "$what" in
     ;;
   test)
     install_dependencies
-    build build-debug Debug
-    (cd build-debug && ctest -j "$jobs" --output-on-failure)
     build build Release
     (cd build && ctest -R bad_input --output-on-failure)
+    build build-debug Debug
+    (cd build-debug && ctest -j "$jobs" --output-on-failure)
     ;;
   *)
     echo "usage: bash quickstart.sh example|test" >&2

@@ -1,4 +1,5 @@
 #include <deal.II/dofs/dof_handler.h>
+
 #include <signorini/cell_data_postprocessor.h>
 
 namespace Signorini

@@ -1,8 +1,10 @@
+#include <deal.II/base/exceptions.h>
+
+#include <signorini/csv_table.h>
+
 #include <algorithm>
 #include <cstdio>
-#include <deal.II/base/exceptions.h>
 #include <fstream>
-#include <signorini/csv_table.h>
 
 namespace Signorini
 {

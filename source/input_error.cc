@@ -1,8 +1,11 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/point.h>
+
 #include <deal.II/lac/vector.h>
-#include <iostream>
+
 #include <signorini/input_error.h>
+
+#include <iostream>
 #include <sstream>
 
 namespace Signorini

@@ -1,5 +1,6 @@
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
+
 #include <signorini/input_error.h>
 #include <signorini/linear_solver.h>
 

@@ -3,10 +3,12 @@
 // a failure of the computation with exit code 2.
 
 #include <deal.II/base/mpi.h>
-#include <filesystem>
-#include <iostream>
+
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
+
+#include <filesystem>
+#include <iostream>
 #include <string>
 
 namespace

@@ -1,8 +1,10 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
-#include <fstream>
+
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
+
+#include <fstream>
 #include <sstream>
 
 namespace Signorini

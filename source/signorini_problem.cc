@@ -1,19 +1,25 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
+
 #include <deal.II/dofs/dof_tools.h>
+
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
+
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <iostream>
+
 #include <signorini/cell_data_postprocessor.h>
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
 #include <signorini/stress_postprocessor.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
 
 namespace Signorini
 {
@@ -346,15 +352,20 @@ namespace Signorini
     solve_timer.stop();
     last_solve_converged = report.converged;
 
-    unsigned int n_active  = 0;
+    // A row is active when its multiplier is positive beyond round-off (the
+    // same rule for both solvers, so that their active sets compare).
     const double threshold = 1e-8 * max_norm(dual_solution);
-    for (const double y : dual_solution)
-      n_active += (y > threshold) ? 1 : 0;
+    active_rows.assign(dual_solution.size(), false);
+    unsigned int n_active = 0;
     previous_contact_state.clear();
     for (unsigned int i = 0; i < dual_solution.size(); ++i)
-      previous_contact_state.emplace_back(
-        contact_boundary.node(contact_boundary.multiplier_nodes()[i]).position,
-        dual_solution[i] > threshold);
+      {
+        active_rows[i] = dual_solution[i] > threshold;
+        n_active += active_rows[i] ? 1 : 0;
+        previous_contact_state.emplace_back(
+          contact_boundary.node(contact_boundary.multiplier_nodes()[i]).position,
+          active_rows[i]);
+      }
     const Vector<double> nodal_forces =
       contact_condition->nodal_forces(dual_solution);
     double contact_force = 0.;
@@ -576,7 +587,6 @@ namespace Signorini
     const Vector<double> lambda = contact_condition->multiplier(dual_solution);
     const Vector<double> forces =
       contact_condition->nodal_forces(dual_solution);
-    const double threshold = 1e-8 * max_norm(dual_solution);
 
     std::ofstream out(output_directory + "/contact-" +
                       Utilities::int_to_string(cycle, 2) + ".csv");
@@ -591,7 +601,7 @@ namespace Signorini
             << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
             << contact_boundary.nodal_gap()[k] << ','
             << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
-            << ((i >= 0 && dual_solution[i] > threshold) ? 1 : 0) << '\n';
+            << ((i >= 0 && active_rows[i]) ? 1 : 0) << '\n';
       }
   }
 
@@ -618,14 +628,13 @@ namespace Signorini
           dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
       const Vector<double> lambda =
         contact_condition->multiplier(dual_solution);
-      const double threshold        = 1e-8 * max_norm(dual_solution);
       const auto  &multiplier_nodes = contact_boundary.multiplier_nodes();
       for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
         {
           const auto dof =
             dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
           pressure[dof] = -lambda[i];
-          active[dof]   = dual_solution[i] > threshold ? 1. : 0.;
+          active[dof]   = active_rows[i] ? 1. : 0.;
         }
     }
 
@@ -831,6 +840,15 @@ namespace Signorini
   SignoriniProblem<dim>::displacement() const
   {
     return solution;
+  }
+
+
+
+  template <int dim>
+  const std::vector<bool> &
+  SignoriniProblem<dim>::active_set() const
+  {
+    return active_rows;
   }
 
 

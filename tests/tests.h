@@ -5,11 +5,13 @@
 
 #include <deal.II/base/logstream.h>
 #include <deal.II/base/utilities.h>
+
+#include <signorini/input_error.h>
+#include <signorini/signorini_problem.h>
+
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <signorini/input_error.h>
-#include <signorini/signorini_problem.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -116,10 +118,8 @@ namespace SignoriniTests
         for (const auto &v : problem.statistics().column(column))
           result.history[column].push_back(v.empty() ? 0. : std::stod(v));
       }
-    result.dual            = problem.dual();
-    const double threshold = 1e-8 * max_norm(result.dual);
-    for (const double y : result.dual)
-      result.active.push_back(y > threshold);
+    result.dual   = problem.dual();
+    result.active = problem.active_set();
     return result;
   }
 

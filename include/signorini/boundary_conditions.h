@@ -3,7 +3,9 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
+
 #include <deal.II/fe/component_mask.h>
+
 #include <memory>
 #include <set>
 #include <string>

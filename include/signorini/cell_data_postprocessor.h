@@ -2,7 +2,9 @@
 #define signorini_cell_data_postprocessor_h
 
 #include <deal.II/lac/vector.h>
+
 #include <deal.II/numerics/data_postprocessor.h>
+
 #include <string>
 
 namespace Signorini

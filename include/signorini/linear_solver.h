@@ -2,11 +2,14 @@
 #define signorini_linear_solver_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>
-#include <memory>
+
 #include <signorini/linear_algebra.h>
+
+#include <memory>
 #include <string>
 #include <vector>
 

@@ -2,7 +2,9 @@
 #define signorini_mesh_input_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/grid/tria.h>
+
 #include <string>
 #include <vector>
 

@@ -4,14 +4,18 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 #include <deal.II/base/timer.h>
+
 #include <deal.II/dofs/dof_handler.h>
+
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
+
 #include <deal.II/grid/tria.h>
+
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
-#include <memory>
+
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
@@ -23,6 +27,8 @@
 #include <signorini/linear_solver.h>
 #include <signorini/material.h>
 #include <signorini/mesh_input.h>
+
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,6 +72,10 @@ namespace Signorini
 
     const LA::Vector &
     displacement() const;
+
+    /// Active rows of the last solve (y_i > 0 beyond round-off).
+    const std::vector<bool> &
+    active_set() const;
 
     /// y of the last solve (see ContactCondition)
     const Vector<double> &
@@ -161,6 +171,7 @@ namespace Signorini
     LA::Vector       load;
     LA::Vector       solution;
     Vector<double>   dual_solution;
+    std::vector<bool> active_rows; // of the last solve, per multiplier node
     bool             last_solve_converged = true;
     ElasticitySolver linear_solver;
 

@@ -2,6 +2,7 @@
 #define signorini_stress_postprocessor_h
 
 #include <deal.II/numerics/data_postprocessor.h>
+
 #include <signorini/material.h>
 
 namespace Signorini

@@ -1,5 +1,6 @@
-#include <set>
 #include <signorini/contact/active_set_solver.h>
+
+#include <set>
 
 namespace Signorini
 {

@@ -1,5 +1,6 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_direct.h>
+
 #include <signorini/contact/condition.h>
 #include <signorini/contact/integral_condition.h>
 #include <signorini/contact/pointwise_condition.h>

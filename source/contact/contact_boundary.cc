@@ -1,10 +1,14 @@
 #include <deal.II/base/quadrature_lib.h>
+
 #include <deal.II/fe/fe_values.h>
+
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <map>
+
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/input_error.h>
+
+#include <map>
 
 namespace Signorini
 {

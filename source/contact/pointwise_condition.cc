@@ -1,4 +1,5 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+
 #include <signorini/contact/pointwise_condition.h>
 
 namespace Signorini

@@ -1,5 +1,7 @@
 #include <deal.II/base/quadrature_lib.h>
+
 #include <deal.II/fe/fe_values.h>
+
 #include <signorini/estimator/constitutive_relation_error.h>
 #include <signorini/estimator/element_equilibration.h>
 

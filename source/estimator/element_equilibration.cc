@@ -1,9 +1,13 @@
-#include <array>
 #include <deal.II/base/quadrature_lib.h>
+
 #include <deal.II/fe/fe_values.h>
+
 #include <deal.II/lac/lapack_full_matrix.h>
-#include <map>
+
 #include <signorini/estimator/element_equilibration.h>
+
+#include <array>
+#include <map>
 #include <tuple>
 
 namespace Signorini

@@ -2,10 +2,13 @@
 #define signorini_contact_condition_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
-#include <memory>
+
 #include <signorini/contact/contact_boundary.h>
+
+#include <memory>
 #include <string>
 #include <vector>
 

@@ -1,20 +1,25 @@
 #ifndef signorini_contact_contact_boundary_h
 #define signorini_contact_contact_boundary_h
 
-#include <array>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
+
 #include <deal.II/dofs/dof_handler.h>
+
 #include <deal.II/fe/mapping.h>
+
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
+
+#include <signorini/linear_algebra.h>
+
+#include <array>
 #include <memory>
 #include <set>
-#include <signorini/linear_algebra.h>
 #include <vector>
 
 namespace Signorini

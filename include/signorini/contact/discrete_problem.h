@@ -3,10 +3,12 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
+
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
+
 #include <vector>
 
 namespace Signorini

@@ -1,8 +1,9 @@
 #ifndef signorini_contact_frank_wolfe_solver_h
 #define signorini_contact_frank_wolfe_solver_h
 
-#include <map>
 #include <signorini/contact/solver.h>
+
+#include <map>
 
 namespace Signorini
 {

@@ -2,6 +2,7 @@
 #define signorini_contact_pointwise_condition_h
 
 #include <deal.II/lac/sparse_direct.h>
+
 #include <signorini/contact/condition.h>
 
 namespace Signorini

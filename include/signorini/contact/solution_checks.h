@@ -2,8 +2,11 @@
 #define signorini_contact_solution_checks_h
 
 #include <deal.II/base/point.h>
+
 #include <deal.II/lac/vector.h>
+
 #include <signorini/contact/discrete_problem.h>
+
 #include <vector>
 
 namespace Signorini

@@ -2,10 +2,13 @@
 #define signorini_contact_solver_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/lac/vector.h>
-#include <memory>
+
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/linear_algebra.h>
+
+#include <memory>
 #include <string>
 
 namespace Signorini

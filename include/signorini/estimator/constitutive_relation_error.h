@@ -2,15 +2,20 @@
 #define signorini_estimator_constitutive_relation_error_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/dofs/dof_handler.h>
+
 #include <deal.II/fe/mapping.h>
+
 #include <deal.II/lac/vector.h>
-#include <memory>
+
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/estimator/stress_reconstruction.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/material.h>
+
+#include <memory>
 
 namespace Signorini
 {

@@ -2,14 +2,19 @@
 #define signorini_estimator_stress_reconstruction_h
 
 #include <deal.II/base/parameter_handler.h>
+
 #include <deal.II/dofs/dof_handler.h>
+
 #include <deal.II/fe/mapping.h>
+
 #include <deal.II/lac/vector.h>
-#include <memory>
+
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/material.h>
+
+#include <memory>
 #include <string>
 
 namespace Signorini
