@@ -22,13 +22,13 @@ namespace Signorini
                       Patterns::Integer(2, 6),
                       "Polynomial degree p + k of the local problems of the "
                       "element equilibration (p = 1).");
-    prm.declare_entry("Optimisation sweeps",
-                      "0",
-                      Patterns::Integer(0, 20),
-                      "0: free parameters of the traction densities by least "
-                      "squares to the averaged FE tractions (classical EET); "
-                      "> 0: Gauss-Seidel sweeps minimising the error measure "
-                      "over them instead.");
+    prm.declare_entry("Traction densities",
+                      "least squares",
+                      Patterns::Selection("least squares|minimised"),
+                      "Choice of the free parameters of the equilibrated "
+                      "traction densities: 'least squares' towards the "
+                      "averaged FE tractions (classical EET) or 'minimised' "
+                      "error measure (one extra sparse global solve).");
     prm.leave_subsection();
   }
 
@@ -41,7 +41,8 @@ namespace Signorini
     prm.enter_subsection("Error estimator");
     is_enabled     = prm.get_bool("Enable");
     reconstruction = std::make_unique<ElementEquilibration<dim>>(
-      prm.get_integer("Local degree"), prm.get_integer("Optimisation sweeps"));
+      prm.get_integer("Local degree"),
+      prm.get("Traction densities") == "minimised");
     prm.leave_subsection();
   }
 

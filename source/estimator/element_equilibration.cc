@@ -2,7 +2,12 @@
 
 #include <deal.II/fe/fe_values.h>
 
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/lac/precondition.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
 
 #include <signorini/estimator/element_equilibration.h>
 
@@ -116,9 +121,9 @@ namespace Signorini
   template <int dim>
   ElementEquilibration<dim>::ElementEquilibration(
     const unsigned int local_degree,
-    const unsigned int optimisation_sweeps)
+    const bool optimise_densities)
     : local_degree(local_degree)
-    , optimisation_sweeps(optimisation_sweeps)
+    , optimise_densities(optimise_densities)
   {}
 
 
@@ -411,7 +416,7 @@ namespace Signorini
               }
             // directions b -> b + t z, A z = 0, that keep the prolongation
             // condition: the free parameters of the patch
-            if (optimisation_sweeps > 0 && n_un > 0)
+            if (optimise_densities && n_un > 0)
               {
                 LAPACKFullMatrix<double> A_svd(n_eq, n_un);
                 for (unsigned int i = 0; i < n_eq; ++i)
@@ -600,76 +605,88 @@ namespace Signorini
       return u_hat;
     };
 
-    // --- 5. optional: energy-optimal choice within the admissible family --
-    if (optimisation_sweeps > 0)
+    // --- 5. optional: the error-minimising choice in the admissible family -
+    // J(t) = sum_E ||w_E + sum_d t_d s_Ed||^2_{K_E}, w_E = v_E - U^_E the
+    // local error field, s_Ed = K_E^{-1} dload_Ed the response of E to the
+    // free direction d: minimise by CG on H t = -g with
+    // H_dd' = sum_E dload_Ed . s_Ed', g_d = sum_E w_E . dload_Ed.
+    if (optimise_densities && !free_directions.empty())
       {
-        // w_E = v_E - U^_E, the local error field, per cell
-        std::vector<Vector<double>> w(n_cells);
+        const unsigned int                     n_directions = free_directions.size();
+        std::vector<std::vector<unsigned int>> directions_of_cell(n_cells);
+        for (unsigned int d = 0; d < n_directions; ++d)
+          for (const unsigned int E : cells_of_vertex[free_directions[d].vertex])
+            directions_of_cell[E].push_back(d);
+        DynamicSparsityPattern dsp(n_directions, n_directions);
+        for (const auto &directions : directions_of_cell)
+          for (const unsigned int d : directions)
+            for (const unsigned int e : directions)
+              dsp.add(d, e);
+        SparsityPattern sparsity;
+        sparsity.copy_from(dsp);
+        SparseMatrix<double> H(sparsity);
+        Vector<double>       g(n_directions);
+
         for (const auto &cell : dof_handler.active_cell_iterators())
           {
-            const unsigned int E = cell->active_cell_index();
-            const Geometry     g = geometry(cell);
-            w[E]                 = local_load(cell, g);
-            local_matrix(g).solve(w[E]);
-            w[E] -= admissible_coefficients(E, g);
+            const unsigned int E          = cell->active_cell_index();
+            const auto &       directions = directions_of_cell[E];
+            if (directions.empty())
+              continue;
+            const Geometry           geo       = geometry(cell);
+            LAPACKFullMatrix<double> stiffness = local_matrix(geo);
+            Vector<double>           w         = local_load(cell, geo);
+            stiffness.solve(w);
+            w -= admissible_coefficients(E, geo);
+            std::vector<Vector<double>> delta_load(directions.size(), Vector<double>(n));
+            std::vector<Vector<double>> response(directions.size());
+            for (unsigned int i = 0; i < directions.size(); ++i)
+              {
+                const auto &direction = free_directions[directions[i]];
+                for (const auto &[f, k, value] : direction.entries)
+                  {
+                    const FaceData &data = faces[f];
+                    if (data.first_cell != E && data.second_cell != E)
+                      continue;
+                    std::array<Tensor<1, 2>, 2> density;
+                    density[k][direction.component]     = 4. / data.length * value;
+                    density[1 - k][direction.component] = -2. / data.length * value;
+                    add_edge_load(E, geo, data, density, delta_load[i], nullptr, nullptr);
+                  }
+                response[i] = delta_load[i];
+                stiffness.solve(response[i]);
+                g[directions[i]] += w * delta_load[i];
+              }
+            for (unsigned int i = 0; i < directions.size(); ++i)
+              for (unsigned int j = 0; j < directions.size(); ++j)
+                H.add(directions[i], directions[j], delta_load[i] * response[j]);
           }
-        std::vector<typename DoFHandler<dim>::active_cell_iterator> cell_of(
-          n_cells);
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          cell_of[cell->active_cell_index()] = cell;
-        for (unsigned int sweep = 0; sweep < optimisation_sweeps; ++sweep)
-          for (const auto &direction : free_directions)
-            {
-              // change of the densities along the direction, per cell
-              const auto &patch = cells_of_vertex[direction.vertex];
-              std::vector<Vector<double>> delta_load(patch.size(),
-                                                     Vector<double>(n));
-              std::vector<Vector<double>> delta_w(patch.size());
-              double                      numerator = 0., denominator = 0.;
-              for (unsigned int e = 0; e < patch.size(); ++e)
-                {
-                  const unsigned int E = patch[e];
-                  const Geometry     g = geometry(cell_of[E]);
-                  for (const auto &[f, k, value] : direction.entries)
-                    {
-                      const FaceData &data = faces[f];
-                      if (data.first_cell != E && data.second_cell != E)
-                        continue;
-                      std::array<Tensor<1, 2>, 2> density;
-                      density[k][direction.component] =
-                        4. / data.length * value;
-                      density[1 - k][direction.component] =
-                        -2. / data.length * value;
-                      add_edge_load(
-                        E, g, data, density, delta_load[e], nullptr, nullptr);
-                    }
-                  delta_w[e] = delta_load[e];
-                  local_matrix(g).solve(delta_w[e]);
-                  numerator += w[E] * delta_load[e];
-                  denominator += delta_w[e] * delta_load[e];
-                }
-              if (denominator <= 0.)
-                continue;
-              const double t = -numerator / denominator;
-
-              for (unsigned int e = 0; e < patch.size(); ++e)
-                w[patch[e]].add(t, delta_w[e]);
-              for (const auto &[f, k, value] : direction.entries)
-                faces[f].projection[k][direction.component] += t * value;
-              for (const auto &[f, k, value] : direction.entries)
-                {
-                  (void)k;
-                  (void)value;
-                  FaceData &data = faces[f];
-                  for (unsigned int c = 0; c < dim; ++c)
-                    {
-                      const double b0    = data.projection[0][c],
-                                   b1    = data.projection[1][c];
-                      data.density[0][c] = 2. / data.length * (2. * b0 - b1);
-                      data.density[1][c] = 2. / data.length * (2. * b1 - b0);
-                    }
-                }
-            }
+        Vector<double> t(n_directions);
+        g *= -1.;
+        SolverControl            control(10 * n_directions + 100, 1e-10 * g.l2_norm(),
+                              false, false);
+        SolverCG<Vector<double>> cg(control);
+        PreconditionJacobi<SparseMatrix<double>> jacobi;
+        jacobi.initialize(H);
+        try
+          {
+            cg.solve(H, t, g, jacobi);
+          }
+        catch (const SolverControl::NoConvergence &)
+          {
+            // keep the partial minimisation: every t stays admissible
+          }
+        for (unsigned int d = 0; d < n_directions; ++d)
+          for (const auto &[f, k, value] : free_directions[d].entries)
+            faces[f].projection[k][free_directions[d].component] += t[d] * value;
+        for (auto &data : faces)
+          if (data.first_cell != numbers::invalid_unsigned_int)
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                const double b0 = data.projection[0][c], b1 = data.projection[1][c];
+                data.density[0][c] = 2. / data.length * (2. * b0 - b1);
+                data.density[1][c] = 2. / data.length * (2. * b1 - b0);
+              }
       }
 
     // --- 6. sigma^ = K eps(v) and the error per element -------------------

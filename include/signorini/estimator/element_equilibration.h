@@ -19,6 +19,7 @@ namespace Signorini
    *    to the projections of the averaged finite element tractions is taken
    *    (a one-parameter family at interior vertices). The two projections of
    *    an edge then give its linear density.
+   *    Optionally the free parameters minimise the error measure instead.
    * 2. sigma^ = K eps(v) on each element from the Neumann problem with data
    *    (f_d, F^_E) in complete polynomials of degree "Local degree" (p + k),
    *    rigid motions removed from the basis.
@@ -31,13 +32,14 @@ namespace Signorini
   {
   public:
     /**
-     * @p optimisation_sweeps > 0 replaces the least-squares choice of the
-     * free parameters of the patches by Gauss-Seidel sweeps that minimise
-     * sum_E ||sigma^ - K eps(U^)||^2_E along each free direction (the
-     * equilibrium and prolongation conditions are kept exactly).
+     * With @p optimise_densities the free parameters of the patch systems
+     * are not chosen by least squares towards the averaged FE tractions but
+     * so as to minimise sum_E ||sigma^ - K eps(U^)||^2_E over all of them (one
+     * global, sparse, symmetric positive semi-definite system solved by CG);
+     * the equilibrium and prolongation conditions hold either way.
      */
-    explicit ElementEquilibration(const unsigned int local_degree        = 3,
-                                  const unsigned int optimisation_sweeps = 0);
+    explicit ElementEquilibration(const unsigned int local_degree       = 3,
+                                  const bool         optimise_densities = false);
 
     std::string
     name() const override;
@@ -56,7 +58,7 @@ namespace Signorini
 
   private:
     unsigned int local_degree;
-    unsigned int optimisation_sweeps;
+    bool         optimise_densities;
     double       max_equilibrium_defect  = 0.;
     double       max_prolongation_defect = 0.;
   };
