@@ -40,6 +40,10 @@ namespace Signorini
         for (unsigned int m = 3; m < exponents.size(); ++m)
           for (unsigned int c = 0; c < 2; ++c)
             functions.push_back({{m, c, 1.}});
+        xi_power.resize(degree + 1);
+        eta_power.resize(degree + 1);
+        m.resize(exponents.size());
+        dm.resize(exponents.size());
       }
 
       unsigned int
@@ -57,16 +61,19 @@ namespace Signorini
                std::vector<SymmetricTensor<2, 2>> &strains) const
       {
         const double xi = (x[0] - center[0]) / h, eta = (x[1] - center[1]) / h;
-        std::vector<double>       m(exponents.size());
-        std::vector<Tensor<1, 2>> dm(exponents.size());
+        // powers 0..degree of xi and eta, then the monomials and gradients
+        xi_power[0] = eta_power[0] = 1.;
+        for (unsigned int p = 1; p < xi_power.size(); ++p)
+          {
+            xi_power[p]  = xi_power[p - 1] * xi;
+            eta_power[p] = eta_power[p - 1] * eta;
+          }
         for (unsigned int i = 0; i < exponents.size(); ++i)
           {
             const auto [p, q] = exponents[i];
-            m[i]              = std::pow(xi, p) * std::pow(eta, q);
-            dm[i][0] =
-              (p > 0 ? p * std::pow(xi, p - 1) * std::pow(eta, q) : 0.) / h;
-            dm[i][1] =
-              (q > 0 ? q * std::pow(xi, p) * std::pow(eta, q - 1) : 0.) / h;
+            m[i]              = xi_power[p] * eta_power[q];
+            dm[i][0] = (p > 0 ? p * xi_power[p - 1] * eta_power[q] : 0.) / h;
+            dm[i][1] = (q > 0 ? q * xi_power[p] * eta_power[q - 1] : 0.) / h;
           }
         values.resize(functions.size());
         strains.resize(functions.size());
@@ -92,6 +99,9 @@ namespace Signorini
         double       coefficient;
       };
       std::vector<std::vector<Term>> functions;
+      // work space of evaluate()
+      mutable std::vector<double>       xi_power, eta_power, m;
+      mutable std::vector<Tensor<1, 2>> dm;
     };
 
     enum class FaceKind
@@ -121,7 +131,7 @@ namespace Signorini
   template <int dim>
   ElementEquilibration<dim>::ElementEquilibration(
     const unsigned int local_degree,
-    const bool optimise_densities)
+    const bool         optimise_densities)
     : local_degree(local_degree)
     , optimise_densities(optimise_densities)
   {}
@@ -612,10 +622,11 @@ namespace Signorini
     // H_dd' = sum_E dload_Ed . s_Ed', g_d = sum_E w_E . dload_Ed.
     if (optimise_densities && !free_directions.empty())
       {
-        const unsigned int                     n_directions = free_directions.size();
+        const unsigned int n_directions = free_directions.size();
         std::vector<std::vector<unsigned int>> directions_of_cell(n_cells);
         for (unsigned int d = 0; d < n_directions; ++d)
-          for (const unsigned int E : cells_of_vertex[free_directions[d].vertex])
+          for (const unsigned int E :
+               cells_of_vertex[free_directions[d].vertex])
             directions_of_cell[E].push_back(d);
         DynamicSparsityPattern dsp(n_directions, n_directions);
         for (const auto &directions : directions_of_cell)
@@ -630,7 +641,7 @@ namespace Signorini
         for (const auto &cell : dof_handler.active_cell_iterators())
           {
             const unsigned int E          = cell->active_cell_index();
-            const auto &       directions = directions_of_cell[E];
+            const auto        &directions = directions_of_cell[E];
             if (directions.empty())
               continue;
             const Geometry           geo       = geometry(cell);
@@ -638,7 +649,8 @@ namespace Signorini
             Vector<double>           w         = local_load(cell, geo);
             stiffness.solve(w);
             w -= admissible_coefficients(E, geo);
-            std::vector<Vector<double>> delta_load(directions.size(), Vector<double>(n));
+            std::vector<Vector<double>> delta_load(directions.size(),
+                                                   Vector<double>(n));
             std::vector<Vector<double>> response(directions.size());
             for (unsigned int i = 0; i < directions.size(); ++i)
               {
@@ -649,9 +661,11 @@ namespace Signorini
                     if (data.first_cell != E && data.second_cell != E)
                       continue;
                     std::array<Tensor<1, 2>, 2> density;
-                    density[k][direction.component]     = 4. / data.length * value;
-                    density[1 - k][direction.component] = -2. / data.length * value;
-                    add_edge_load(E, geo, data, density, delta_load[i], nullptr, nullptr);
+                    density[k][direction.component] = 4. / data.length * value;
+                    density[1 - k][direction.component] =
+                      -2. / data.length * value;
+                    add_edge_load(
+                      E, geo, data, density, delta_load[i], nullptr, nullptr);
                   }
                 response[i] = delta_load[i];
                 stiffness.solve(response[i]);
@@ -659,12 +673,16 @@ namespace Signorini
               }
             for (unsigned int i = 0; i < directions.size(); ++i)
               for (unsigned int j = 0; j < directions.size(); ++j)
-                H.add(directions[i], directions[j], delta_load[i] * response[j]);
+                H.add(directions[i],
+                      directions[j],
+                      delta_load[i] * response[j]);
           }
         Vector<double> t(n_directions);
         g *= -1.;
-        SolverControl            control(10 * n_directions + 100, 1e-10 * g.l2_norm(),
-                              false, false);
+        SolverControl            control(10 * n_directions + 100,
+                              1e-10 * g.l2_norm(),
+                              false,
+                              false);
         SolverCG<Vector<double>> cg(control);
         PreconditionJacobi<SparseMatrix<double>> jacobi;
         jacobi.initialize(H);
@@ -678,12 +696,14 @@ namespace Signorini
           }
         for (unsigned int d = 0; d < n_directions; ++d)
           for (const auto &[f, k, value] : free_directions[d].entries)
-            faces[f].projection[k][free_directions[d].component] += t[d] * value;
+            faces[f].projection[k][free_directions[d].component] +=
+              t[d] * value;
         for (auto &data : faces)
           if (data.first_cell != numbers::invalid_unsigned_int)
             for (unsigned int c = 0; c < dim; ++c)
               {
-                const double b0 = data.projection[0][c], b1 = data.projection[1][c];
+                const double b0    = data.projection[0][c],
+                             b1    = data.projection[1][c];
                 data.density[0][c] = 2. / data.length * (2. * b0 - b1);
                 data.density[1][c] = 2. / data.length * (2. * b1 - b0);
               }
