@@ -1,4 +1,6 @@
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/thread_local_storage.h>
+#include <deal.II/base/work_stream.h>
 
 #include <deal.II/fe/fe_values.h>
 
@@ -13,6 +15,7 @@
 
 #include <array>
 #include <map>
+#include <mutex>
 #include <tuple>
 
 namespace Signorini
@@ -28,7 +31,7 @@ namespace Signorini
     class LocalBasis
     {
     public:
-      LocalBasis(const unsigned int degree)
+      explicit LocalBasis(const unsigned int degree = 3)
       {
         for (unsigned int d = 0; d <= degree; ++d)
           for (unsigned int q = 0; q <= d; ++q)
@@ -482,8 +485,11 @@ namespace Signorini
           }
 
     // --- 4. local Neumann problems -----------------------------------------
-    const LocalBasis                  basis(local_degree);
-    const unsigned int                n = basis.size();
+    // The local basis keeps work space: one copy per thread.
+    Threads::ThreadLocalStorage<LocalBasis> basis_of_thread{
+      LocalBasis(local_degree)};
+    const unsigned int                n = basis_of_thread.get().size();
+    std::mutex                        defect_mutex;
     const QWitherdenVincentSimplex<2> cell_rule(4);
     const QGauss<1>                   edge_rule(4);
 
@@ -512,6 +518,7 @@ namespace Signorini
 
     // factorised local stiffness matrix
     const auto local_matrix = [&](const Geometry &g) {
+      const LocalBasis                  &basis = basis_of_thread.get();
       std::vector<Tensor<1, 2>>          values;
       std::vector<SymmetricTensor<2, 2>> strains;
       LAPACKFullMatrix<double>           stiffness(n, n);
@@ -540,6 +547,7 @@ namespace Signorini
                                    Vector<double>                    &load,
                                    Tensor<1, 2>                      *resultant,
                                    double                            *moment) {
+      const LocalBasis                  &basis = basis_of_thread.get();
       std::vector<Tensor<1, 2>>          values;
       std::vector<SymmetricTensor<2, 2>> strains;
       const double   eta = (data.first_cell == E) ? 1. : -1.;
@@ -565,7 +573,8 @@ namespace Signorini
     // full load of a cell (body force with the rule of the assembly, so
     // that the element data are in equilibrium to round-off), and checks
     const auto local_load = [&](const auto &cell, const Geometry &g) {
-      const unsigned int                 E = cell->active_cell_index();
+      const LocalBasis                  &basis = basis_of_thread.get();
+      const unsigned int                 E     = cell->active_cell_index();
       std::vector<Tensor<1, 2>>          values;
       std::vector<SymmetricTensor<2, 2>> strains;
       Vector<double>                     load(n);
@@ -596,6 +605,7 @@ namespace Signorini
                         (data.density[0].norm() + data.density[1].norm()) *
                         data.length;
         }
+      std::lock_guard<std::mutex> lock(defect_mutex);
       if (data_scale > 0.)
         max_equilibrium_defect =
           std::max({max_equilibrium_defect,
@@ -709,14 +719,21 @@ namespace Signorini
               }
       }
 
-    // --- 6. sigma^ = K eps(v) and the error per element -------------------
-    std::vector<Tensor<1, 2>>          values;
-    std::vector<SymmetricTensor<2, 2>> strains;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        const unsigned int E = cell->active_cell_index();
-        const Geometry     g = geometry(cell);
-        Vector<double>     v = local_load(cell, g);
+    // --- 6. sigma^ = K eps(v) and the error per element (cells in parallel)
+    struct NoScratch
+    {};
+    struct NoCopy
+    {};
+    const auto element_error =
+      [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+          NoScratch &,
+          NoCopy &) {
+        const LocalBasis                  &basis = basis_of_thread.get();
+        std::vector<Tensor<1, 2>>          values;
+        std::vector<SymmetricTensor<2, 2>> strains;
+        const unsigned int                 E = cell->active_cell_index();
+        const Geometry                     g = geometry(cell);
+        Vector<double>                     v = local_load(cell, g);
         local_matrix(g).solve(v);
         // ||sigma^ -/+ K eps(U^)||^2 = int (eps(v) -/+ eps(U^)) : K : (...)
         double error = 0., sum = 0.;
@@ -733,9 +750,16 @@ namespace Signorini
             error += (material.stress(minus) * minus) * JxW;
             sum += (material.stress(plus) * plus) * JxW;
           }
-        error_squared[E] = error;
+        error_squared[E] = error; // each cell writes its own entries
         sum_squared[E]   = sum;
-      }
+      };
+    WorkStream::run(
+      dof_handler.begin_active(),
+      dof_handler.end(),
+      element_error,
+      [](const NoCopy &) {},
+      NoScratch(),
+      NoCopy());
   }
 
   template class ElementEquilibration<2>;
