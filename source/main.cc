@@ -33,7 +33,9 @@ main(int argc, char **argv)
   const std::vector<std::string> args(argv + 1, argv + argc);
   try
     {
-      Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+      Utilities::MPI::MPI_InitFinalize mpi(argc,
+                                           argv,
+                                           numbers::invalid_unsigned_int);
 
       ParameterHandler prm;
       SignoriniProblem<2>::declare_parameters(prm);
