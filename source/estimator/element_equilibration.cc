@@ -475,14 +475,19 @@ namespace Signorini
       max_prolongation_defect /= q_scale;
 
     // --- 3. linear densities from the two projections of each edge --------
-    for (auto &data : faces)
-      if (data.first_cell != numbers::invalid_unsigned_int)
-        for (unsigned int c = 0; c < dim; ++c)
-          {
-            const double b0 = data.projection[0][c], b1 = data.projection[1][c];
-            data.density[0][c] = 2. / data.length * (2. * b0 - b1);
-            data.density[1][c] = 2. / data.length * (2. * b1 - b0);
-          }
+    // [b0, b1] = L/6 [[2, 1], [1, 2]] [F0, F1]
+    const auto update_densities = [&]() {
+      for (auto &data : faces)
+        if (data.first_cell != numbers::invalid_unsigned_int)
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              const double b0    = data.projection[0][c],
+                           b1    = data.projection[1][c];
+              data.density[0][c] = 2. / data.length * (2. * b0 - b1);
+              data.density[1][c] = 2. / data.length * (2. * b1 - b0);
+            }
+    };
+    update_densities();
 
     // --- 4. local Neumann problems -----------------------------------------
     // The local basis keeps work space: one copy per thread.
@@ -708,15 +713,7 @@ namespace Signorini
           for (const auto &[f, k, value] : free_directions[d].entries)
             faces[f].projection[k][free_directions[d].component] +=
               t[d] * value;
-        for (auto &data : faces)
-          if (data.first_cell != numbers::invalid_unsigned_int)
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                const double b0    = data.projection[0][c],
-                             b1    = data.projection[1][c];
-                data.density[0][c] = 2. / data.length * (2. * b0 - b1);
-                data.density[1][c] = 2. / data.length * (2. * b1 - b0);
-              }
+        update_densities();
       }
 
     // --- 6. sigma^ = K eps(v) and the error per element (cells in parallel)
