@@ -105,7 +105,7 @@ namespace Signorini
                                        update_JxW_values);
 
     // 1. Nodes, numbered in the order met; faces remembered for step 2.
-    std::map<unsigned int, unsigned int> node_of_vertex;
+    node_of_vertex.clear();
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     const bool     use_outward_normal = (direction_text == "outward normal");
     Tensor<1, dim> first_normal;
@@ -238,6 +238,17 @@ namespace Signorini
               }
           }
       }
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ContactBoundary<dim>::node_index(const unsigned int vertex) const
+  {
+    const auto it = node_of_vertex.find(vertex);
+    Assert(it != node_of_vertex.end(), ExcMessage("vertex not on GC"));
+    return it->second;
   }
 
 

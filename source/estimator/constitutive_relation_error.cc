@@ -5,6 +5,8 @@
 #include <signorini/estimator/constitutive_relation_error.h>
 #include <signorini/estimator/element_equilibration.h>
 
+#include <numeric>
+
 namespace Signorini
 {
   template <int dim>
@@ -131,18 +133,15 @@ namespace Signorini
     result.contact_local.reinit(error_squared.size());
     if (boundary.n_nodes() > 0)
       {
-        const QGauss<dim - 1>                face_quadrature(4);
-        FEFaceValues<dim>                    fe_face_values(mapping,
+        const QGauss<dim - 1>            face_quadrature(4);
+        FEFaceValues<dim>                fe_face_values(mapping,
                                          dof_handler.get_fe(),
                                          face_quadrature,
                                          update_values |
                                            update_quadrature_points |
                                            update_JxW_values);
-        const FEValuesExtractors::Vector     displacement(0);
-        std::vector<Tensor<1, dim>>          w_hat(face_quadrature.size());
-        std::map<unsigned int, unsigned int> node_of_vertex;
-        for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
-          node_of_vertex[boundary.node(k).vertex] = k;
+        const FEValuesExtractors::Vector displacement(0);
+        std::vector<Tensor<1, dim>>      w_hat(face_quadrature.size());
         for (const auto &cell : dof_handler.active_cell_iterators())
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary() &&
@@ -152,14 +151,12 @@ namespace Signorini
                 fe_face_values.reinit(cell, f);
                 fe_face_values[displacement].get_function_values(
                   admissible_displacement, w_hat);
-                const Point<dim> a = cell->face(f)->vertex(0);
-                const double     r0 =
-                  normal_reaction[node_of_vertex[cell->face(f)->vertex_index(
-                    0)]];
-                const double r1 =
-                  normal_reaction[node_of_vertex[cell->face(f)->vertex_index(
-                    1)]];
-                const double length = cell->face(f)->measure();
+                const Point<dim> a      = cell->face(f)->vertex(0);
+                const double     r0     = normal_reaction[boundary.node_index(
+                  cell->face(f)->vertex_index(0))];
+                const double     r1     = normal_reaction[boundary.node_index(
+                  cell->face(f)->vertex_index(1))];
+                const double     length = cell->face(f)->measure();
                 for (const unsigned int q :
                      fe_face_values.quadrature_point_indices())
                   {
@@ -174,17 +171,17 @@ namespace Signorini
               }
       }
 
-    result.contact_term =
-      result.contact_local.size() > 0 ?
-        result.contact_local.mean_value() * result.contact_local.size() :
-        0.;
+    result.contact_term = std::accumulate(result.contact_local.begin(),
+                                          result.contact_local.end(),
+                                          0.);
     const double volume_error =
-      error_squared.mean_value() * error_squared.size();
-    const double volume_sum = sum_squared.mean_value() * sum_squared.size();
-    result.e_squared        = volume_error + result.contact_term;
-    result.denominator      = volume_sum + result.contact_term;
-    result.eps              = std::sqrt(result.e_squared / result.denominator);
-    result.eps_contact      = result.contact_term / result.e_squared;
+      std::accumulate(error_squared.begin(), error_squared.end(), 0.);
+    const double volume_sum =
+      std::accumulate(sum_squared.begin(), sum_squared.end(), 0.);
+    result.e_squared   = volume_error + result.contact_term;
+    result.denominator = volume_sum + result.contact_term;
+    result.eps         = std::sqrt(result.e_squared / result.denominator);
+    result.eps_contact = result.contact_term / result.e_squared;
     result.local.reinit(error_squared.size());
     for (unsigned int E = 0; E < error_squared.size(); ++E)
       result.local[E] =

@@ -229,9 +229,6 @@ namespace Signorini
     for (const auto &part : bc.tractions)
       for (const auto id : part.ids)
         traction_of_id[id] = &part;
-    std::map<unsigned int, unsigned int> contact_node_of_vertex;
-    for (unsigned int k = 0; k < input.contact_boundary.n_nodes(); ++k)
-      contact_node_of_vertex[input.contact_boundary.node(k).vertex] = k;
     const Tensor<1, dim> nu_c = input.contact_boundary.direction();
 
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -321,11 +318,11 @@ namespace Signorini
               {
                 // R^ = R^_n nu_c, linear on the edge: int R^_n psi_k exactly
                 const double r0 =
-                  input
-                    .normal_reaction[contact_node_of_vertex[data.vertices[0]]];
+                  input.normal_reaction[input.contact_boundary.node_index(
+                    data.vertices[0])];
                 const double r1 =
-                  input
-                    .normal_reaction[contact_node_of_vertex[data.vertices[1]]];
+                  input.normal_reaction[input.contact_boundary.node_index(
+                    data.vertices[1])];
                 data.projection[0] += data.length / 6. * (2. * r0 + r1) * nu_c;
                 data.projection[1] += data.length / 6. * (r0 + 2. * r1) * nu_c;
               }

@@ -18,6 +18,7 @@
 #include <signorini/linear_algebra.h>
 
 #include <array>
+#include <map>
 #include <memory>
 #include <set>
 #include <vector>
@@ -73,6 +74,10 @@ namespace Signorini
     const Node &
     node(const unsigned int k) const;
 
+    /// The node at the mesh vertex @p vertex (which must lie on GC).
+    unsigned int
+    node_index(const unsigned int vertex) const;
+
     /// Indices (into the node list) of the nodes that carry a multiplier.
     const std::vector<unsigned int> &
     multiplier_nodes() const;
@@ -119,14 +124,15 @@ namespace Signorini
     std::string                                     direction_text;
     std::unique_ptr<Functions::ParsedFunction<dim>> gap_function;
 
-    Tensor<1, dim>            contact_direction;
-    std::vector<Node>         nodes;
-    std::vector<unsigned int> multiplier_node_indices;
-    SparsityPattern           mass_sparsity;
-    SparseMatrix<double>      mass;
-    Vector<double>            gap_at_nodes;
-    Vector<double>            weighted_gap_at_nodes;
-    unsigned int              contact_cell_count = 0;
+    Tensor<1, dim>                       contact_direction;
+    std::vector<Node>                    nodes;
+    std::map<unsigned int, unsigned int> node_of_vertex;
+    std::vector<unsigned int>            multiplier_node_indices;
+    SparsityPattern                      mass_sparsity;
+    SparseMatrix<double>                 mass;
+    Vector<double>                       gap_at_nodes;
+    Vector<double>                       weighted_gap_at_nodes;
+    unsigned int                         contact_cell_count = 0;
   };
 } // namespace Signorini
 
