@@ -11,8 +11,10 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <signorini/adaptation/mesh_quality.h>
 #include <signorini/cell_data_postprocessor.h>
 #include <signorini/input_error.h>
+#include <signorini/nodal_interpolation.h>
 #include <signorini/signorini_problem.h>
 #include <signorini/stress_postprocessor.h>
 
@@ -35,7 +37,8 @@ namespace Signorini
     prm.declare_entry("Number of cycles",
                       "1",
                       Patterns::Integer(1, 12),
-                      "Computations on successively uniformly refined meshes.");
+                      "Number of computations (meshes); with a target error "
+                      "(Mesh adaptation) the largest number.");
     prm.enter_subsection("Output");
     {
       prm.declare_entry("Write vtu",
@@ -79,6 +82,7 @@ namespace Signorini
     prm.leave_subsection();
 
     MeshInput<dim>::declare_parameters(prm);
+    declare_size_predictor_parameters(prm);
     LinearElasticMaterial<dim>::declare_parameters(prm);
     ConstitutiveRelationError<dim>::declare_parameters(prm);
     BoundaryConditions<dim>::declare_parameters(prm);
@@ -123,6 +127,13 @@ namespace Signorini
     contact_solver    = create_contact_solver<dim>(prm);
     linear_solver.parse_parameters(prm);
     estimator.parse_parameters(prm);
+    size_predictor = create_size_predictor(prm);
+    if (size_predictor->name() != "uniform" && !estimator.enabled())
+      throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
+                       "> needs the error estimator (Error estimator/Enable)");
+    if (size_predictor->target_error > 0. && !estimator.enabled())
+      throw InputError("Mesh adaptation/Target error: needs the error "
+                       "estimator (Error estimator/Enable)");
     prm.enter_subsection("Reference solution");
     reference_extra_levels = prm.get_integer("Extra refinements");
     prm.leave_subsection();
@@ -140,8 +151,8 @@ namespace Signorini
   SignoriniProblem<dim>::make_grid()
   {
     TimerOutput::Scope t(timer, "make grid");
-    triangulation.clear();
-    mesh_input.create(triangulation);
+    adaptive_mesh.initialize(mesh_input);
+    adaptive_mesh.build_conforming_mesh(triangulation);
 
     std::set<types::boundary_id> present;
     for (const auto &face : triangulation.active_face_iterators())
@@ -363,7 +374,8 @@ namespace Signorini
         active_rows[i] = dual_solution[i] > threshold;
         n_active += active_rows[i] ? 1 : 0;
         previous_contact_state.emplace_back(
-          contact_boundary.node(contact_boundary.multiplier_nodes()[i]).position,
+          contact_boundary.node(contact_boundary.multiplier_nodes()[i])
+            .position,
           active_rows[i]);
       }
     const Vector<double> nodal_forces =
@@ -417,6 +429,10 @@ namespace Signorini
     statistics_table.add_value("cycle", cycle);
     statistics_table.add_value("cells", triangulation.n_active_cells());
     statistics_table.add_value("dofs", dof_handler.n_dofs());
+    statistics_table.add_value("nodes", triangulation.n_used_vertices());
+    statistics_table.add_value("predicted_cells", predicted_cells);
+    statistics_table.add_value("green_cells", adaptive_mesh.n_green_cells());
+    statistics_table.add_value("min_angle", minimum_angle(triangulation));
     statistics_table.add_value("contact_nodes",
                                contact_condition->n_constraints());
     statistics_table.add_value("active_nodes", n_active);
@@ -475,6 +491,79 @@ namespace Signorini
               << std::setprecision(4) << 100. * estimate.eps
               << " % (contact term " << 100. * estimate.eps_contact
               << " % of e^2)" << std::setprecision(6) << std::endl;
+  }
+
+
+
+  template <int dim>
+  std::vector<Point<dim>>
+  SignoriniProblem<dim>::contact_transition_points() const
+  {
+    // state of every node of GC: -1 no multiplier, 0 separated, 1 active
+    std::vector<int> state(contact_boundary.n_nodes(), -1);
+    const auto      &multiplier_nodes = contact_boundary.multiplier_nodes();
+    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+      state[multiplier_nodes[i]] = active_rows[i] ? 1 : 0;
+    std::vector<Point<dim>> points;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() &&
+            contact_boundary.boundary_ids().count(face->boundary_id()) != 0)
+          {
+            const unsigned int a =
+              contact_boundary.node_index(face->vertex_index(0));
+            const unsigned int b =
+              contact_boundary.node_index(face->vertex_index(1));
+            if (state[a] >= 0 && state[b] >= 0 && state[a] != state[b])
+              {
+                points.push_back(face->vertex(0));
+                points.push_back(face->vertex(1));
+              }
+          }
+    return points;
+  }
+
+
+
+  template <int dim>
+  bool
+  SignoriniProblem<dim>::target_reached() const
+  {
+    const double target = size_predictor->target_error;
+    return target > 0. && estimator.enabled() &&
+           estimate.eps <= target * (1. + size_predictor->tolerance);
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::adapt_mesh()
+  {
+    TimerOutput::Scope   t(timer, "mesh adaptation");
+    const unsigned int   n_cells = triangulation.n_active_cells();
+    const Vector<double> local_error =
+      estimator.enabled() ? estimate.local : Vector<double>(n_cells);
+    const std::vector<bool> near_singularity =
+      cells_near_singular_points(triangulation, contact_transition_points());
+    const SizePredictor::Prediction prediction =
+      size_predictor->predict({local_error, near_singularity});
+
+    // h*_E = r_E h_E: the region of E is refined ceil(log2(1 / r_E)) times
+    // beyond the level of E (fewer than its level if r_E > 1)
+    std::vector<int> level_change(n_cells);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      level_change[c] = static_cast<int>(
+        std::ceil(std::log2(1. / prediction.size_ratio[c]) - 1e-10));
+    adaptive_mesh.remesh(mesh_input, level_change);
+    adaptive_mesh.build_conforming_mesh(triangulation);
+    predicted_cells = prediction.predicted_cells;
+    if (size_predictor->name() != "uniform")
+      std::cout << "   " << size_predictor->name() << " prediction: N* = "
+                << static_cast<unsigned long>(std::round(predicted_cells))
+                << " elements for eps* = " << std::setprecision(4)
+                << 100. * prediction.predicted_error << " %"
+                << std::setprecision(6) << std::endl;
   }
 
 
@@ -628,7 +717,7 @@ namespace Signorini
           dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
       const Vector<double> lambda =
         contact_condition->multiplier(dual_solution);
-      const auto  &multiplier_nodes = contact_boundary.multiplier_nodes();
+      const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
       for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
         {
           const auto dof =
@@ -671,15 +760,16 @@ namespace Signorini
   {
     TimerOutput::Scope t(timer, "reference comparison");
     // U_h and U^ on the reference mesh (nested: interpolation is exact)
+    // U_h and U^ on the reference mesh: exact where it refines the current
+    // mesh (uniform cycles), nodal interpolation across green edges
     const auto on_reference = [&](const LA::Vector &u) {
-      Vector<double> coarse(u.size()),
-        fine(reference->get_dof_handler().n_dofs());
+      Vector<double> coarse(u.size());
       for (const auto i : u.locally_owned_elements())
         coarse[i] = u[i];
-      VectorTools::interpolate_to_different_mesh(dof_handler,
-                                                 coarse,
-                                                 reference->get_dof_handler(),
-                                                 fine);
+      const Vector<double> fine =
+        interpolate_at_vertices(dof_handler,
+                                coarse,
+                                reference->get_dof_handler());
       LA::Vector result(reference->displacement());
       for (const auto i : result.locally_owned_elements())
         result[i] = fine[i];
@@ -700,6 +790,11 @@ namespace Signorini
               << reference->get_dof_handler().n_dofs()
               << " DoFs): eps_ex = " << std::setprecision(4) << 100. * eps_ex
               << " %";
+    const auto &levels = adaptive_mesh.levels();
+    if (*std::max_element(levels.begin(), levels.end()) >=
+        reference->adaptive_mesh.levels()[0])
+      std::cout << " (the reference is not finer than this mesh everywhere: "
+                   "eps_ex is underestimated)";
     if (estimator.enabled())
       {
         LA::Vector u_hat = on_reference(admissible_displacement);
@@ -798,16 +893,19 @@ namespace Signorini
         if (cycle == 0)
           make_grid();
         else
-          {
-            TimerOutput::Scope t(timer, "make grid");
-            triangulation.refine_global(1);
-          }
+          adapt_mesh();
         setup_system();
         std::cout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
                   << " cells, " << dof_handler.n_dofs() << " DoFs, "
                   << contact_boundary.n_nodes() << " nodes on GC ("
                   << contact_condition->n_constraints() << " with a multiplier)"
                   << std::endl;
+        if (size_predictor->name() != "uniform")
+          std::cout << "   mesh: " << triangulation.n_used_vertices()
+                    << " nodes, " << adaptive_mesh.n_green_cells()
+                    << " green cells, minimum angle " << std::setprecision(4)
+                    << minimum_angle(triangulation) << " degrees"
+                    << std::setprecision(6) << std::endl;
         assemble_system();
         solve_contact(cycle);
         if (exact_solution)
@@ -819,6 +917,16 @@ namespace Signorini
           throw std::runtime_error(
             "the contact solver did not converge in cycle " +
             std::to_string(cycle) + " (outputs written)");
+        if (target_reached())
+          {
+            std::cout << "Target error " << 100. * size_predictor->target_error
+                      << " % reached" << std::endl;
+            break;
+          }
+        if (size_predictor->target_error > 0. && cycle + 1 == n_cycles)
+          std::cout << "Target error " << 100. * size_predictor->target_error
+                    << " % not reached in " << n_cycles << " computations"
+                    << std::endl;
       }
     if (print_timing)
       timer.print_summary();

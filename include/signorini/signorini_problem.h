@@ -16,6 +16,8 @@
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
 
+#include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/adaptation/size_predictor.h>
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
@@ -39,9 +41,11 @@ namespace Signorini
 
   /**
    * The application: the Signorini problem of spec sections 1-2 on a
-   * sequence of uniformly refined meshes ("cycles"), in the style of deal.II
+   * sequence of meshes ("cycles", or computations), in the style of deal.II
    * step-41/42: make_grid(), setup_system(), assemble_system(),
-   * solve_contact(), output_results(), driven by run(). Every constant comes
+   * solve_contact(), estimate_error(), output_results(), adapt_mesh(),
+   * driven by run(). The data flow one way: mesh -> solve -> admissible
+   * fields and estimate -> size prediction -> new mesh. Every constant comes
    * from the parameter file; the parts of the method (mesh input, material,
    * boundary data, contact boundary, contact condition, contact solver,
    * linear solver) declare and parse their own parameters.
@@ -100,6 +104,20 @@ namespace Signorini
     void
     make_grid();
 
+    /// The next mesh from the size predictor (spec section 5), rebuilt from
+    /// the initial one.
+    void
+    adapt_mesh();
+
+    /// Has the last estimate reached the target error (with tolerance)?
+    bool
+    target_reached() const;
+
+    /// The last contact and first separated nodes of GC (multiplier nodes on
+    /// both ends of a contact edge with different states).
+    std::vector<Point<dim>>
+    contact_transition_points() const;
+
     void
     setup_system();
 
@@ -142,13 +160,17 @@ namespace Signorini
     BoundaryConditions<dim>                         boundary_conditions;
     std::unique_ptr<Functions::ParsedFunction<dim>> exact_solution;
 
-    // Discretisation
-    Triangulation<dim>     triangulation;
-    const FESystem<dim>    fe;
-    const MappingFE<dim>   mapping;
-    DoFHandler<dim>        dof_handler;
-    const FE_SimplexP<dim> scalar_fe;
-    DoFHandler<dim>        scalar_dof_handler; // contact fields in the output
+    // Discretisation: the computational mesh is the conforming version of
+    // an adaptive hierarchy built on the initial mesh
+    AdaptiveMesh<dim>              adaptive_mesh;
+    std::unique_ptr<SizePredictor> size_predictor;
+    double                         predicted_cells = 0.;
+    Triangulation<dim>             triangulation;
+    const FESystem<dim>            fe;
+    const MappingFE<dim>           mapping;
+    DoFHandler<dim>                dof_handler;
+    const FE_SimplexP<dim>         scalar_fe;
+    DoFHandler<dim> scalar_dof_handler; // contact fields in the output
 
     // Constraints: hanging nodes, Dirichlet data, and both merged (with and
     // without the Dirichlet values)
@@ -166,14 +188,14 @@ namespace Signorini
     std::vector<std::pair<Point<dim>, bool>> previous_contact_state;
 
     // Linear algebra
-    LA::SparseMatrix stiffness;
-    LA::SparseMatrix condensed_stiffness;
-    LA::Vector       load;
-    LA::Vector       solution;
-    Vector<double>   dual_solution;
+    LA::SparseMatrix  stiffness;
+    LA::SparseMatrix  condensed_stiffness;
+    LA::Vector        load;
+    LA::Vector        solution;
+    Vector<double>    dual_solution;
     std::vector<bool> active_rows; // of the last solve, per multiplier node
-    bool             last_solve_converged = true;
-    ElasticitySolver linear_solver;
+    bool              last_solve_converged = true;
+    ElasticitySolver  linear_solver;
 
     // Error in constitutive relation
     ConstitutiveRelationError<dim>                  estimator;

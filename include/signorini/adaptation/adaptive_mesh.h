@@ -1,0 +1,68 @@
+#ifndef signorini_adaptation_adaptive_mesh_h
+#define signorini_adaptation_adaptive_mesh_h
+
+#include <deal.II/grid/tria.h>
+
+#include <signorini/mesh_input.h>
+
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The meshes of an adaptive computation (spec section 5). deal.II 9.4
+   * cannot coarsen triangles, and hanging nodes would break the element
+   * equilibration, so two triangulations are kept:
+   *
+   * - the hierarchy: the initial mesh refined by deal.II (red refinement,
+   *   at most one hanging node per face). Each new hierarchy is rebuilt from
+   *   the initial mesh, so that element sizes may grow as well as shrink;
+   * - the computational mesh: the hierarchy made conforming by green closure
+   *   (cells with two or three hanging nodes are refined in the hierarchy,
+   *   cells with one are bisected from the hanging node to the opposite
+   *   vertex), a flat triangulation on which everything else runs.
+   *
+   * A computational cell refers to the hierarchy cell it comes from; its
+   * level is the level of that cell, so that halving a green cell means
+   * refining its hierarchy cell once.
+   */
+  template <int dim>
+  class AdaptiveMesh
+  {
+  public:
+    /// The hierarchy becomes the initial mesh of @p input.
+    void
+    initialize(const MeshInput<dim> &input);
+
+    /**
+     * Rebuild the hierarchy from the initial mesh so that the region of
+     * every computational cell c is refined to the level
+     * max(level(c) + level_change[c], initial level); where regions of
+     * different requests meet, the finest wins.
+     */
+    void
+    remesh(const MeshInput<dim> &input, const std::vector<int> &level_change);
+
+    /// Close the hierarchy and write its conforming version into @p mesh.
+    void
+    build_conforming_mesh(Triangulation<dim> &mesh);
+
+    /// Per active cell of the computational mesh: its hierarchy level.
+    const std::vector<unsigned int> &
+    levels() const;
+
+    /// Cells of the computational mesh that are halves of a hierarchy cell.
+    unsigned int
+    n_green_cells() const;
+
+  private:
+    Triangulation<dim>        hierarchy;
+    std::vector<unsigned int> hierarchy_cell_of; // active cell index
+    std::vector<unsigned int> level_of;
+    unsigned int              green_cells = 0;
+  };
+} // namespace Signorini
+
+#endif

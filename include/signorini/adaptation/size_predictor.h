@@ -1,0 +1,82 @@
+#ifndef signorini_adaptation_size_predictor_h
+#define signorini_adaptation_size_predictor_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * What the next mesh should look like, from the local contributions of the
+   * current one (spec section 5): the data flow mesh -> solve -> estimate ->
+   * size map -> new mesh passes through this interface only.
+   */
+  class SizePredictor
+  {
+  public:
+    /// Local data of the current mesh, one entry per active cell.
+    struct Input
+    {
+      /// eps_E [10], so that sum_E eps_E^2 = eps^2 [11]
+      const Vector<double> &local_error;
+      /// cells with a vertex at a singular point (see AdaptiveMesh)
+      const std::vector<bool> &near_singularity;
+    };
+
+    struct Prediction
+    {
+      /// r_E = h*_E / h_E per active cell of the current mesh
+      Vector<double> size_ratio;
+      /// N* = sum_E r_E^-d: the element count of the predicted mesh
+      double predicted_cells = 0.;
+      /// sum_E eps_E^2 r_E^(2 q_E): the error the predicted mesh should give
+      double predicted_error = 0.;
+    };
+
+    virtual ~SizePredictor() = default;
+
+    virtual std::string
+    name() const = 0;
+
+    virtual Prediction
+    predict(const Input &input) const = 0;
+
+    /// Stop adapting once eps <= target * (1 + tolerance); 0: never.
+    double target_error = 0.;
+    double tolerance    = 0.05;
+  };
+
+  /// Halve every element: the uniform sequence of the convergence study.
+  class UniformRefinement : public SizePredictor
+  {
+  public:
+    UniformRefinement(const unsigned int dim, const double target_error);
+
+    std::string
+    name() const override;
+
+    Prediction
+    predict(const Input &input) const override;
+
+  private:
+    unsigned int dim;
+  };
+
+  /// The "Mesh adaptation" section: strategy, target and the parameters of
+  /// every predictor.
+  void
+  declare_size_predictor_parameters(ParameterHandler &prm);
+
+  /// Throws InputError for inconsistent input.
+  std::unique_ptr<SizePredictor>
+  create_size_predictor(ParameterHandler &prm);
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,210 @@
+#include <deal.II/grid/grid_tools.h>
+
+#include <signorini/adaptation/adaptive_mesh.h>
+
+#include <algorithm>
+#include <functional>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::initialize(const MeshInput<dim> &input)
+  {
+    hierarchy.clear();
+    input.create(hierarchy);
+  }
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::remesh(const MeshInput<dim>   &input,
+                            const std::vector<int> &level_change)
+  {
+    AssertDimension(level_change.size(), hierarchy_cell_of.size());
+    using cell_iterator = typename Triangulation<dim>::cell_iterator;
+
+    // requested level of every active cell of the current hierarchy
+    std::vector<int> target(hierarchy.n_active_cells(), 0);
+    for (unsigned int c = 0; c < level_change.size(); ++c)
+      {
+        const unsigned int h = hierarchy_cell_of[c];
+        target[h] = std::max(target[h], int(level_of[c]) + level_change[c]);
+      }
+    const std::function<int(const cell_iterator &)> subtree_target =
+      [&](const cell_iterator &cell) {
+        if (cell->is_active())
+          return target[cell->active_cell_index()];
+        int result = 0;
+        for (unsigned int child = 0; child < cell->n_children(); ++child)
+          result = std::max(result, subtree_target(cell->child(child)));
+        return result;
+      };
+
+    // Both hierarchies refine the same coarse cells with deal.II's fixed
+    // child numbering, so they are walked together: a new cell is refined
+    // while it is coarser than what the old cells inside it (or the old
+    // active cell around it) ask for.
+    Triangulation<dim> next;
+    input.create(next);
+    const std::function<bool(const cell_iterator &, const cell_iterator &, int)>
+      flag = [&](const cell_iterator &cell,
+                 const cell_iterator &old_cell,
+                 const int            inherited) {
+        const bool old_valid = (old_cell != hierarchy.end());
+        if (cell->is_active())
+          {
+            const int wanted = old_valid ? subtree_target(old_cell) : inherited;
+            if (int(cell->level()) < wanted)
+              {
+                cell->set_refine_flag();
+                return true;
+              }
+            return false;
+          }
+        bool      any       = false;
+        const int passed_on = (old_valid && old_cell->is_active()) ?
+                                target[old_cell->active_cell_index()] :
+                                inherited;
+        for (unsigned int child = 0; child < cell->n_children(); ++child)
+          any |= flag(cell->child(child),
+                      (old_valid && old_cell->has_children()) ?
+                        old_cell->child(child) :
+                        hierarchy.end(),
+                      passed_on);
+        return any;
+      };
+    bool refined = true;
+    while (refined)
+      {
+        refined       = false;
+        auto old_cell = hierarchy.begin(0);
+        for (auto cell = next.begin(0); cell != next.end(0); ++cell, ++old_cell)
+          refined |= flag(cell, old_cell, 0);
+        if (refined)
+          next.execute_coarsening_and_refinement();
+      }
+    hierarchy.clear();
+    hierarchy.copy_triangulation(next);
+  }
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::build_conforming_mesh(Triangulation<dim> &mesh)
+  {
+    Assert(dim == 2, ExcNotImplemented());
+    const auto n_hanging = [](const auto &cell) {
+      unsigned int n = 0;
+      for (const unsigned int f : cell->face_indices())
+        n += cell->face(f)->has_children() ? 1 : 0;
+      return n;
+    };
+    // 1. no cell with more than one hanging node (red refinement; deal.II
+    //    keeps at most one hanging node per face)
+    for (bool refined = true; refined;)
+      {
+        refined = false;
+        for (const auto &cell : hierarchy.active_cell_iterators())
+          if (n_hanging(cell) > 1)
+            {
+              cell->set_refine_flag();
+              refined = true;
+            }
+        if (refined)
+          hierarchy.execute_coarsening_and_refinement();
+      }
+
+    // 2. green closure: bisect the cells with one hanging node towards it.
+    //    Face f of a triangle joins its vertices f and f+1 (mod 3); both
+    //    halves keep the orientation of the cell.
+    std::vector<CellData<dim>> cells;
+    SubCellData                boundary;
+    hierarchy_cell_of.clear();
+    level_of.clear();
+    green_cells = 0;
+    for (const auto &cell : hierarchy.active_cell_iterators())
+      {
+        CellData<dim> data(3);
+        data.material_id        = cell->material_id();
+        unsigned int split_face = numbers::invalid_unsigned_int;
+        for (const unsigned int f : cell->face_indices())
+          {
+            if (cell->face(f)->has_children())
+              split_face = f;
+            if (cell->face(f)->at_boundary())
+              {
+                CellData<1> line;
+                line.vertices    = {cell->face(f)->vertex_index(0),
+                                    cell->face(f)->vertex_index(1)};
+                line.boundary_id = cell->face(f)->boundary_id();
+                boundary.boundary_lines.push_back(line);
+              }
+          }
+        const auto v = [&](const unsigned int i) {
+          return cell->vertex_index(i % 3);
+        };
+        if (split_face == numbers::invalid_unsigned_int)
+          {
+            data.vertices = {v(0), v(1), v(2)};
+            cells.push_back(data);
+          }
+        else
+          {
+            const unsigned int f = split_face;
+            const unsigned int midpoint =
+              cell->face(f)->child(0)->vertex_index(1);
+            Assert(cell->face(f)->child(0)->vertex_index(0) == v(f) ||
+                     cell->face(f)->child(0)->vertex_index(0) == v(f + 1),
+                   ExcInternalError());
+            data.vertices = {v(f), midpoint, v(f + 2)};
+            cells.push_back(data);
+            data.vertices = {midpoint, v(f + 1), v(f + 2)};
+            cells.push_back(data);
+            green_cells += 2;
+          }
+        const unsigned int n_new =
+          (split_face == numbers::invalid_unsigned_int) ? 1 : 2;
+        for (unsigned int k = 0; k < n_new; ++k)
+          {
+            hierarchy_cell_of.push_back(cell->active_cell_index());
+            level_of.push_back(cell->level());
+          }
+      }
+    std::vector<Point<dim>> vertices = hierarchy.get_vertices();
+    GridTools::delete_unused_vertices(vertices, cells, boundary);
+    mesh.clear();
+    mesh.create_triangulation(vertices, cells, boundary);
+    AssertDimension(mesh.n_active_cells(), hierarchy_cell_of.size());
+    // the cells keep the order of `cells`, which hierarchy_cell_of relies on
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        (void)cell;
+        Assert(cell->vertex_index(0) ==
+                 cells[cell->active_cell_index()].vertices[0],
+               ExcInternalError());
+      }
+  }
+
+
+
+  template <int dim>
+  const std::vector<unsigned int> &
+  AdaptiveMesh<dim>::levels() const
+  {
+    return level_of;
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  AdaptiveMesh<dim>::n_green_cells() const
+  {
+    return green_cells;
+  }
+
+  template class AdaptiveMesh<2>;
+} // namespace Signorini

@@ -1,0 +1,60 @@
+#include <signorini/adaptation/fixed_fraction.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace Signorini
+{
+  FixedFractionPredictor::FixedFractionPredictor(const unsigned int dim,
+                                                 const double target_error,
+                                                 const double fraction)
+    : dim(dim)
+    , fraction(fraction)
+  {
+    this->target_error = target_error;
+  }
+
+
+
+  std::string
+  FixedFractionPredictor::name() const
+  {
+    return "fixed fraction";
+  }
+
+
+
+  SizePredictor::Prediction
+  FixedFractionPredictor::predict(const Input &input) const
+  {
+    const Vector<double>     &eps_E = input.local_error;
+    const unsigned int        n     = eps_E.size();
+    std::vector<unsigned int> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) {
+      return eps_E[a] > eps_E[b];
+    });
+
+    Prediction prediction;
+    prediction.size_ratio.reinit(n);
+    prediction.size_ratio = 1.;
+    const double total    = eps_E.norm_sqr();
+    double       held     = 0.;
+    for (const unsigned int c : order)
+      {
+        if (held >= fraction * total)
+          break;
+        held += eps_E[c] * eps_E[c];
+        prediction.size_ratio[c] = 0.5;
+      }
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        const double r = prediction.size_ratio[c];
+        prediction.predicted_cells += std::pow(r, -double(dim));
+        prediction.predicted_error += eps_E[c] * eps_E[c] * r * r;
+      }
+    prediction.predicted_error = std::sqrt(prediction.predicted_error);
+    return prediction;
+  }
+} // namespace Signorini

@@ -1,0 +1,78 @@
+#include <deal.II/base/exceptions.h>
+
+#include <signorini/adaptation/mesh_quality.h>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace Signorini
+{
+  template <int dim>
+  double
+  minimum_angle(const Triangulation<dim> &mesh)
+  {
+    Assert(dim == 2, ExcNotImplemented());
+    double smallest = 180.;
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        const Point<dim> a = cell->vertex(0), b = cell->vertex(1),
+                         c = cell->vertex(2);
+        const double signed_area =
+          0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        const double scale = (b - a).norm_square() + (c - a).norm_square();
+        if (!(signed_area > 1e-14 * scale))
+          throw std::runtime_error("mesh cell " +
+                                   std::to_string(cell->active_cell_index()) +
+                                   " is inverted or degenerate");
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const Point<dim> &p    = cell->vertex(i),
+                             &q    = cell->vertex((i + 1) % 3),
+                             &r    = cell->vertex((i + 2) % 3);
+            const Tensor<1, dim> u = q - p, w = r - p;
+            const double         cosine = (u * w) / (u.norm() * w.norm());
+            smallest                    = std::min(smallest,
+                                std::acos(std::clamp(cosine, -1., 1.)) * 180. /
+                                  numbers::PI);
+          }
+      }
+    return smallest;
+  }
+
+
+
+  template <int dim>
+  std::vector<bool>
+  cells_near_singular_points(const Triangulation<dim>      &mesh,
+                             const std::vector<Point<dim>> &extra_points)
+  {
+    // boundary ids met at every boundary vertex
+    std::vector<std::set<types::boundary_id>> ids(mesh.n_vertices());
+    for (const auto &face : mesh.active_face_iterators())
+      if (face->at_boundary())
+        for (const unsigned int v : face->vertex_indices())
+          ids[face->vertex_index(v)].insert(face->boundary_id());
+    std::vector<bool> singular(mesh.n_vertices(), false);
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      singular[v] = ids[v].size() > 1;
+
+    std::vector<bool> near(mesh.n_active_cells(), false);
+    for (const auto &cell : mesh.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          bool at_extra = false;
+          for (const auto &p : extra_points)
+            at_extra |= cell->vertex(v).distance(p) < 1e-10 * cell->diameter();
+          if (singular[cell->vertex_index(v)] || at_extra)
+            near[cell->active_cell_index()] = true;
+        }
+    return near;
+  }
+
+  template double
+  minimum_angle(const Triangulation<2> &);
+  template std::vector<bool>
+  cells_near_singular_points(const Triangulation<2> &,
+                             const std::vector<Point<2>> &);
+} // namespace Signorini

@@ -1,0 +1,90 @@
+#include <signorini/adaptation/optimal_size.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace Signorini
+{
+  OptimalSizePredictor::OptimalSizePredictor(const unsigned int dim,
+                                             const double       target_error,
+                                             const double       rate,
+                                             const double       singular_rate,
+                                             const double       minimum_ratio,
+                                             const double       maximum_ratio)
+    : dim(dim)
+    , rate(rate)
+    , singular_rate(singular_rate)
+    , minimum_ratio(minimum_ratio)
+    , maximum_ratio(maximum_ratio)
+  {
+    this->target_error = target_error;
+  }
+
+
+
+  std::string
+  OptimalSizePredictor::name() const
+  {
+    return "optimal size";
+  }
+
+
+
+  SizePredictor::Prediction
+  OptimalSizePredictor::predict(const Input &input) const
+  {
+    const Vector<double> &eps_E   = input.local_error;
+    const unsigned int    n       = eps_E.size();
+    const double          d       = dim;
+    const double          log_min = std::log(minimum_ratio),
+                 log_max          = std::log(maximum_ratio);
+
+    // log r_E(lambda) = (log(d / (2 q_E eps_E^2)) - log lambda) / (2 q_E + d),
+    // limited to the admissible change per step
+    std::vector<double> q(n), offset(n);
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        q[c]      = input.near_singularity[c] ? singular_rate : rate;
+        offset[c] = (eps_E[c] > 0.) ?
+                      std::log(d / (2. * q[c] * eps_E[c] * eps_E[c])) :
+                      std::numeric_limits<double>::infinity();
+      }
+    const auto log_ratio = [&](const unsigned int c, const double log_lambda) {
+      return std::clamp((offset[c] - log_lambda) / (2. * q[c] + d),
+                        log_min,
+                        log_max);
+    };
+    const auto error_squared = [&](const double log_lambda) {
+      double sum = 0.;
+      for (unsigned int c = 0; c < n; ++c)
+        sum +=
+          eps_E[c] * eps_E[c] * std::exp(2. * q[c] * log_ratio(c, log_lambda));
+      return sum;
+    };
+
+    // error_squared decreases with lambda: bisection in log(lambda); if the
+    // limits make the target unreachable (or reached by any mesh) this ends
+    // at the corresponding limit
+    const double target_squared = target_error * target_error;
+    double       lower = -2000., upper = 2000.;
+    for (unsigned int iteration = 0; iteration < 200; ++iteration)
+      {
+        const double middle = 0.5 * (lower + upper);
+        if (error_squared(middle) > target_squared)
+          lower = middle;
+        else
+          upper = middle;
+      }
+
+    Prediction prediction;
+    prediction.size_ratio.reinit(n);
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        prediction.size_ratio[c] = std::exp(log_ratio(c, upper));
+        prediction.predicted_cells += std::pow(prediction.size_ratio[c], -d);
+      }
+    prediction.predicted_error = std::sqrt(error_squared(upper));
+    return prediction;
+  }
+} // namespace Signorini

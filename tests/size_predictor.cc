@@ -1,0 +1,205 @@
+// The size predictors of spec section 5, on synthetic local errors:
+// - optimal size, uniform rate: r_E equals the closed form of spec section 5
+//   and the predicted error sum eps_E^2 r_E^(2q) is eps_0^2;
+// - optimal size with a reduced rate on some cells: the constraint holds
+//   and the Lagrange condition of the minimisation of N* = sum r_E^-d holds
+//   (d r_E^(-d-1) / (2 q_E eps_E^2 r_E^(2 q_E - 1)) is the same for all E);
+// - perturbing the optimal sizes along the constraint increases N*;
+// - the limits on the size change are respected, and the constraint still
+//   holds when the limits bind on some cells;
+// - fixed fraction: the halved cells are the largest contributions and the
+//   smallest such set that holds the requested share of eps^2.
+
+#include <signorini/adaptation/fixed_fraction.h>
+#include <signorini/adaptation/optimal_size.h>
+
+#include "tests.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace SignoriniTests;
+
+namespace
+{
+  Vector<double>
+  synthetic_errors(const unsigned int n)
+  {
+    // a few cells dominate, as near a singular point
+    std::mt19937                           generator(7);
+    std::uniform_real_distribution<double> uniform(0., 1.);
+    Vector<double>                         eps_E(n);
+    for (unsigned int c = 0; c < n; ++c)
+      eps_E[c] = 0.01 * std::pow(uniform(generator), 3.) + 1e-4;
+    eps_E[3] = 0.08;
+    eps_E[4] = 0.05;
+    return eps_E;
+  }
+
+  double
+  element_count(const Vector<double> &r)
+  {
+    double n = 0.;
+    for (const double ratio : r)
+      n += 1. / (ratio * ratio);
+    return n;
+  }
+} // namespace
+
+int
+main()
+{
+  initlog();
+  const unsigned int   d = 2, n = 200;
+  const Vector<double> eps_E = synthetic_errors(n);
+  const double         eps_0 = 0.02;
+  const double         q     = 1.;
+  std::vector<bool>    regular(n, false), singular(n, false);
+  singular[3] = singular[4] = singular[10] = true;
+  deallog << "eps = " << eps_E.l2_norm() << ", eps_0 = " << eps_0 << std::endl;
+
+  // 1. uniform rate, wide limits: the closed form
+  {
+    const OptimalSizePredictor predictor(d, eps_0, q, q, 1e-3, 1e3);
+    const auto                 prediction = predictor.predict({eps_E, regular});
+    double                     sum        = 0.;
+    for (const double e : eps_E)
+      sum += std::pow(e, 2. * d / (2. * q + d));
+    double deviation = 0.;
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        const double closed = std::pow(eps_E[c], -2. / (2. * q + d)) *
+                              std::pow(eps_0 * eps_0 / sum, 1. / (2. * q));
+        deviation =
+          std::max(deviation, std::abs(prediction.size_ratio[c] / closed - 1.));
+      }
+    deallog << "closed form: max relative deviation of r_E "
+            << (deviation < 1e-10 ? "< 1e-10" : "TOO LARGE") << std::endl;
+    deallog << "predicted error / eps_0 - 1: "
+            << (std::abs(prediction.predicted_error / eps_0 - 1.) < 1e-10 ?
+                  "< 1e-10" :
+                  "TOO LARGE")
+            << std::endl;
+    deallog << "N* = " << prediction.predicted_cells << " (sum r_E^-2 "
+            << element_count(prediction.size_ratio) << ")" << std::endl;
+  }
+
+  // 2. reduced rate on three cells: constraint and Lagrange condition
+  const double               q_singular = 0.5;
+  const OptimalSizePredictor predictor(d, eps_0, q, q_singular, 1e-3, 1e3);
+  const auto                 prediction = predictor.predict({eps_E, singular});
+  {
+    double constraint = 0., lowest = 1e300, highest = 0.;
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        const double r  = prediction.size_ratio[c];
+        const double qE = singular[c] ? q_singular : q;
+        constraint += eps_E[c] * eps_E[c] * std::pow(r, 2. * qE);
+        const double multiplier =
+          d * std::pow(r, -double(d) - 1.) /
+          (2. * qE * eps_E[c] * eps_E[c] * std::pow(r, 2. * qE - 1.));
+        lowest  = std::min(lowest, multiplier);
+        highest = std::max(highest, multiplier);
+      }
+    deallog << "reduced rate: sum eps_E^2 r_E^(2 q_E) / eps_0^2 - 1 "
+            << (std::abs(constraint / (eps_0 * eps_0) - 1.) < 1e-10 ?
+                  "< 1e-10" :
+                  "TOO LARGE")
+            << ", spread of the Lagrange multiplier "
+            << (highest / lowest - 1. < 1e-8 ? "< 1e-8" : "TOO LARGE")
+            << std::endl;
+    deallog << "singular cells: r_E = " << prediction.size_ratio[3] << ", "
+            << prediction.size_ratio[4] << ", " << prediction.size_ratio[10]
+            << "; regular cell 5: r_E = " << prediction.size_ratio[5]
+            << std::endl;
+  }
+
+  // 3. optimality: move along the constraint (shrink cell a, grow cell b
+  //    so that eps_a^2 r_a^2qa + eps_b^2 r_b^2qb is unchanged): N* grows
+  {
+    const double base          = element_count(prediction.size_ratio);
+    bool         all_increased = true;
+    for (const auto &[a, b] : std::vector<std::pair<unsigned, unsigned>>{
+           {3, 4}, {4, 3}, {5, 3}, {10, 20}, {20, 30}, {30, 4}})
+      for (const double step : {1e-3, -1e-3})
+        {
+          Vector<double> r  = prediction.size_ratio;
+          const double   qa = singular[a] ? q_singular : q;
+          const double   qb = singular[b] ? q_singular : q;
+          const double   ea = eps_E[a] * eps_E[a], eb = eps_E[b] * eps_E[b];
+          const double   budget =
+            ea * std::pow(r[a], 2. * qa) + eb * std::pow(r[b], 2. * qb);
+          r[a] *= (1. + step);
+          r[b] = std::pow((budget - ea * std::pow(r[a], 2. * qa)) / eb,
+                          1. / (2. * qb));
+          if (!(element_count(r) > base))
+            deallog << "   " << a << ' ' << b << ' ' << step << ": "
+                    << element_count(r) - base << std::endl;
+          all_increased &= element_count(r) > base;
+        }
+    deallog << "perturbations along the constraint increase N*: "
+            << (all_increased ? "yes" : "NO") << std::endl;
+  }
+
+  // 4. limits on the change per step
+  {
+    const double               minimum = 0.25, maximum = 1.5;
+    const double               eps_1 = 0.04;
+    const OptimalSizePredictor limited(d, eps_1, q, q, minimum, maximum);
+    const auto                 p          = limited.predict({eps_E, regular});
+    unsigned int               at_minimum = 0, at_maximum = 0;
+    bool                       within = true;
+    for (const double r : p.size_ratio)
+      {
+        within &= (r >= minimum * (1. - 1e-12) && r <= maximum * (1. + 1e-12));
+        at_minimum += (r <= minimum * (1. + 1e-12)) ? 1 : 0;
+        at_maximum += (r >= maximum * (1. - 1e-12)) ? 1 : 0;
+      }
+    deallog << "eps_0 = " << eps_1 << ", limits [" << minimum << ", " << maximum
+            << "]: " << (within ? "respected" : "VIOLATED") << ", "
+            << at_minimum << " cells at the minimum, " << at_maximum
+            << " at the maximum, predicted error / eps_0 - 1 "
+            << (std::abs(p.predicted_error / eps_1 - 1.) < 1e-10 ? "< 1e-10" :
+                                                                   "TOO LARGE")
+            << std::endl;
+    // unreachable in one step: every cell at the minimum
+    const OptimalSizePredictor tight(d, 1e-4, q, q, minimum, maximum);
+    const auto                 t = tight.predict({eps_E, regular});
+    deallog << "unreachable target: all cells at the minimum "
+            << (*std::max_element(t.size_ratio.begin(), t.size_ratio.end()) <=
+                    minimum * (1. + 1e-12) ?
+                  "yes" :
+                  "NO")
+            << ", predicted error " << t.predicted_error << " = eps / 4 "
+            << eps_E.l2_norm() / 4. << std::endl;
+  }
+
+  // 5. fixed fraction
+  {
+    const double                 fraction = 0.5;
+    const FixedFractionPredictor marking(d, 0., fraction);
+    const auto                   p    = marking.predict({eps_E, regular});
+    double                       held = 0., smallest_marked = 1e300;
+    double                       largest_unmarked = 0.;
+    unsigned int                 n_marked         = 0;
+    for (unsigned int c = 0; c < n; ++c)
+      if (p.size_ratio[c] < 1.)
+        {
+          held += eps_E[c] * eps_E[c];
+          smallest_marked = std::min(smallest_marked, eps_E[c]);
+          ++n_marked;
+        }
+      else
+        largest_unmarked = std::max(largest_unmarked, eps_E[c]);
+    const double total = eps_E.norm_sqr();
+    deallog << "fixed fraction " << fraction << ": " << n_marked
+            << " cells hold " << held / total << " of eps^2; largest first "
+            << (smallest_marked >= largest_unmarked ? "yes" : "NO")
+            << "; minimal "
+            << (held - smallest_marked * smallest_marked < fraction * total ?
+                  "yes" :
+                  "NO")
+            << "; N* = " << p.predicted_cells << std::endl;
+  }
+}
