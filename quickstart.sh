@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set everything up on a fresh Debian machine (as root) and
-#   bash quickstart.sh example   build in Release (build/) and run prm/block.prm
+#   bash quickstart.sh example   build in Release (build/) and run prm/block-adaptive.prm
 #   bash quickstart.sh test      the bad-input test in Release (build/), then
 #                                the whole test suite in Debug (build-debug/)
 set -euo pipefail
@@ -31,8 +31,8 @@ case "$what" in
   example)
     install_dependencies
     build build Release
-    ./build/signorini prm/block.prm
-    echo "results in output-block/ (open solution.pvd in ParaView)"
+    ./build/signorini prm/block-adaptive.prm
+    echo "results in output-block-adaptive/ (open solution.pvd in ParaView)"
     ;;
   test)
     install_dependencies

@@ -36,7 +36,7 @@ namespace Signorini
                       "parameters used are written (created if needed).");
     prm.declare_entry("Number of cycles",
                       "1",
-                      Patterns::Integer(1, 12),
+                      Patterns::Integer(1, 100),
                       "Number of computations (meshes); with a target error "
                       "(Mesh adaptation) the largest number.");
     prm.enter_subsection("Output");

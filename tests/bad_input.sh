@@ -50,6 +50,18 @@ case_prm "unreadable mesh file" "cannot read mesh file" \
   set Source = file
   set File name = $work/garbage.msh
 end"
+case_prm "optimal sizes without the estimator" "Mesh adaptation/Strategy" \
+  "subsection Error estimator
+  set Enable = false
+end
+subsection Mesh adaptation
+  set Strategy = optimal size
+  set Target error = 0.02
+end"
+case_prm "optimal sizes without a target" "Mesh adaptation/Target error" \
+  "subsection Mesh adaptation
+  set Strategy = optimal size
+end"
 case_prm "contact id absent" "Contact/Boundary ids: boundary id 9" \
   "subsection Contact
   set Boundary ids = 9
