@@ -29,6 +29,21 @@ namespace Signorini
 
 
   void
+  CsvTable::set_value(const unsigned int row,
+                      const std::string &column,
+                      const double       value)
+  {
+    AssertIndexRange(row, rows.size());
+    if (std::find(columns.begin(), columns.end(), column) == columns.end())
+      columns.push_back(column);
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.10g", value);
+    rows[row][column] = text;
+  }
+
+
+
+  void
   CsvTable::add_value(const std::string &column, const long long value)
   {
     add_value(column, std::to_string(value));

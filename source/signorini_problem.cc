@@ -75,10 +75,18 @@ namespace Signorini
     prm.declare_entry("Extra refinements",
                       "0",
                       Patterns::Integer(0, 6),
-                      "If > 0, solve once on the initial mesh refined this "
-                      "many levels beyond the finest cycle, with the same "
-                      "condition, and report eps_ex, the effectivity and the "
-                      "Prager-Synge check against it.");
+                      "If > 0, solve once on a finer mesh with the same "
+                      "condition (see Mesh: the initial mesh refined this many "
+                      "levels beyond Number of cycles - 1, or the last mesh "
+                      "refined this many times) and report eps_ex, the "
+                      "effectivity and the Prager-Synge check against it.");
+    prm.declare_entry("Mesh",
+                      "initial mesh",
+                      Patterns::Selection("initial mesh|final mesh"),
+                      "Refine the initial mesh uniformly (solved first; "
+                      "nested in uniform cycles), or the last mesh of the "
+                      "computations (solved last; for adapted meshes, which "
+                      "are locally finer than any affordable uniform mesh).");
     prm.leave_subsection();
 
     MeshInput<dim>::declare_parameters(prm);
@@ -135,7 +143,8 @@ namespace Signorini
       throw InputError("Mesh adaptation/Target error: needs the error "
                        "estimator (Error estimator/Enable)");
     prm.enter_subsection("Reference solution");
-    reference_extra_levels = prm.get_integer("Extra refinements");
+    reference_extra_levels    = prm.get_integer("Extra refinements");
+    reference_from_final_mesh = prm.get("Mesh") == "final mesh";
     prm.leave_subsection();
 
     for (const auto id : boundary_conditions.used_boundary_ids())
@@ -755,20 +764,20 @@ namespace Signorini
 
 
   template <int dim>
-  void
-  SignoriniProblem<dim>::compare_with_reference()
+  typename SignoriniProblem<dim>::ExactError
+  SignoriniProblem<dim>::exact_error(const DoFHandler<dim> &computation_dofs,
+                                     const Vector<double>  &u_h,
+                                     const Vector<double>  &u_hat,
+                                     const double           eps,
+                                     const double           e) const
   {
-    TimerOutput::Scope t(timer, "reference comparison");
-    // U_h and U^ on the reference mesh (nested: interpolation is exact)
-    // U_h and U^ on the reference mesh: exact where it refines the current
-    // mesh (uniform cycles), nodal interpolation across green edges
-    const auto on_reference = [&](const LA::Vector &u) {
-      Vector<double> coarse(u.size());
-      for (const auto i : u.locally_owned_elements())
-        coarse[i] = u[i];
+    // the fields on the reference mesh: exact where it refines the mesh of
+    // the computation (uniform cycles), nodal interpolation across the green
+    // edges of an adapted mesh
+    const auto on_reference = [&](const Vector<double> &u) {
       const Vector<double> fine =
-        interpolate_at_vertices(dof_handler,
-                                coarse,
+        interpolate_at_vertices(computation_dofs,
+                                u,
                                 reference->get_dof_handler());
       LA::Vector result(reference->displacement());
       for (const auto i : result.locally_owned_elements())
@@ -780,33 +789,138 @@ namespace Signorini
     const auto        norm  = [&](const LA::Vector &v) {
       return std::sqrt(reference->stiffness_matrix().matrix_norm_square(v));
     };
-    LA::Vector u_h = on_reference(solution);
-    LA::Vector difference(u_ref), sum(u_ref);
-    difference -= u_h;
-    sum += u_h;
-    const double eps_ex = norm(difference) / norm(sum);
-    statistics_table.add_value("eps_ex", eps_ex);
+    const LA::Vector u_h_fine = on_reference(u_h);
+    LA::Vector       difference(u_ref), sum(u_ref);
+    difference -= u_h_fine;
+    sum += u_h_fine;
+    ExactError result;
+    result.eps_ex = norm(difference) / norm(sum);
+    if (u_hat.size() > 0)
+      {
+        LA::Vector error_hat(u_ref);
+        error_hat -= on_reference(u_hat);
+        result.effectivity        = eps / result.eps_ex;
+        result.prager_synge_ratio = norm(error_hat) / e;
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::compare_with_reference()
+  {
+    TimerOutput::Scope t(timer, "reference comparison");
+    const auto         to_vector = [](const LA::Vector &u) {
+      Vector<double> v(u.size());
+      for (const auto i : u.locally_owned_elements())
+        v[i] = u[i];
+      return v;
+    };
+    const ExactError error =
+      exact_error(dof_handler,
+                  to_vector(solution),
+                  estimator.enabled() ? to_vector(admissible_displacement) :
+                                        Vector<double>(),
+                  estimate.eps,
+                  std::sqrt(estimate.e_squared));
+    statistics_table.add_value("eps_ex", error.eps_ex);
     std::cout << "   exact error (reference "
               << reference->get_dof_handler().n_dofs()
-              << " DoFs): eps_ex = " << std::setprecision(4) << 100. * eps_ex
-              << " %";
+              << " DoFs): eps_ex = " << std::setprecision(4)
+              << 100. * error.eps_ex << " %";
     const auto &levels = adaptive_mesh.levels();
     if (*std::max_element(levels.begin(), levels.end()) >=
         reference->adaptive_mesh.levels()[0])
       std::cout << " (the reference is not finer than this mesh everywhere: "
-                   "eps_ex is underestimated)";
+                   "eps_ex is underestimated; see Reference solution/Mesh)";
     if (estimator.enabled())
       {
-        LA::Vector u_hat = on_reference(admissible_displacement);
-        LA::Vector error_hat(u_ref);
-        error_hat -= u_hat;
-        const double ratio = norm(error_hat) / std::sqrt(estimate.e_squared);
-        statistics_table.add_value("effectivity", estimate.eps / eps_ex);
-        statistics_table.add_value("prager_synge_ratio", ratio);
-        std::cout << ", effectivity " << estimate.eps / eps_ex
-                  << ", ||U_ref - U^|| / e = " << ratio;
+        statistics_table.add_value("effectivity", error.effectivity);
+        statistics_table.add_value("prager_synge_ratio",
+                                   error.prager_synge_ratio);
+        std::cout << ", effectivity " << error.effectivity
+                  << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
       }
     std::cout << std::setprecision(6) << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::keep_computation()
+  {
+    auto computation = std::make_unique<Computation>();
+    computation->mesh.copy_triangulation(triangulation);
+    computation->dof_handler.reinit(computation->mesh);
+    computation->dof_handler.distribute_dofs(fe);
+    computation->displacement.reinit(dof_handler.n_dofs());
+    if (estimator.enabled())
+      computation->admissible_displacement.reinit(dof_handler.n_dofs());
+    // the copy has the same cells in the same order: match them by vertex
+    auto copy = computation->dof_handler.begin_active();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        for (const unsigned int v : cell->vertex_indices())
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              const auto from               = cell->vertex_dof_index(v, c);
+              const auto to                 = copy->vertex_dof_index(v, c);
+              computation->displacement[to] = solution[from];
+              if (estimator.enabled())
+                computation->admissible_displacement[to] =
+                  admissible_displacement[from];
+            }
+        ++copy;
+      }
+    computation->eps = estimate.eps;
+    computation->e   = std::sqrt(estimate.e_squared);
+    computations.push_back(std::move(computation));
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::compare_computations_with_final_reference()
+  {
+    Triangulation<dim> reference_mesh;
+    adaptive_mesh.build_refined_conforming_mesh(reference_extra_levels,
+                                                reference_mesh);
+    std::cout << "Reference solution: the last mesh refined uniformly, "
+              << reference_extra_levels << " extra level(s)" << std::endl;
+    {
+      TimerOutput::Scope t(timer, "reference solution");
+      reference = solve_reference(0, &reference_mesh);
+    }
+    TimerOutput::Scope t(timer, "reference comparison");
+    for (unsigned int k = 0; k < computations.size(); ++k)
+      {
+        const Computation &computation = *computations[k];
+        const ExactError   error =
+          exact_error(computation.dof_handler,
+                      computation.displacement,
+                      computation.admissible_displacement,
+                      computation.eps,
+                      computation.e);
+        statistics_table.set_value(k, "eps_ex", error.eps_ex);
+        std::cout << "   computation " << k
+                  << ": eps_ex = " << std::setprecision(4)
+                  << 100. * error.eps_ex << " %";
+        if (estimator.enabled())
+          {
+            statistics_table.set_value(k, "effectivity", error.effectivity);
+            statistics_table.set_value(k,
+                                       "prager_synge_ratio",
+                                       error.prager_synge_ratio);
+            std::cout << ", effectivity " << error.effectivity
+                      << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
+          }
+        std::cout << std::setprecision(6) << std::endl;
+      }
+    statistics_table.write(output_directory + "/statistics.csv");
   }
 
 
@@ -830,10 +944,53 @@ namespace Signorini
 
 
   template <int dim>
-  void
-  SignoriniProblem<dim>::solve_once()
+  std::unique_ptr<SignoriniProblem<dim>>
+  SignoriniProblem<dim>::solve_reference(const unsigned int        levels,
+                                         const Triangulation<dim> *mesh)
   {
-    make_grid();
+    // Same input, finer mesh, one solve, no estimate, adaptation or output
+    std::ostringstream parameters;
+    prm.print_parameters(parameters, ParameterHandler::ShortPRM);
+    reference_parameters            = std::make_unique<ParameterHandler>();
+    ParameterHandler &reference_prm = *reference_parameters;
+    SignoriniProblem<dim>::declare_parameters(reference_prm);
+    reference_prm.parse_input_from_string(parameters.str());
+    reference_prm.enter_subsection("Mesh");
+    reference_prm.set("Initial refinements", static_cast<long int>(levels));
+    reference_prm.leave_subsection();
+    reference_prm.enter_subsection("Error estimator");
+    reference_prm.set("Enable", false);
+    reference_prm.leave_subsection();
+    reference_prm.enter_subsection("Mesh adaptation");
+    reference_prm.set("Strategy", "uniform");
+    reference_prm.set("Target error", 0.);
+    reference_prm.leave_subsection();
+    reference_prm.enter_subsection("Reference solution");
+    reference_prm.set("Extra refinements", 0l);
+    reference_prm.leave_subsection();
+    auto reference_problem =
+      std::make_unique<SignoriniProblem<dim>>(reference_prm,
+                                              mesh_input.input_directory);
+    // on the final mesh refined, start from the last active set
+    if (mesh != nullptr)
+      reference_problem->previous_contact_state = previous_contact_state;
+    reference_problem->solve_once(mesh);
+    return reference_problem;
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::solve_once(const Triangulation<dim> *mesh)
+  {
+    if (mesh != nullptr)
+      {
+        triangulation.clear();
+        triangulation.copy_triangulation(*mesh);
+      }
+    else
+      make_grid();
     setup_system();
     assemble_system();
     solve_contact(0);
@@ -860,33 +1017,13 @@ namespace Signorini
       std::ofstream out(output_directory + "/parameters.prm");
       prm.print_parameters(out, ParameterHandler::PRM);
     }
-    if (reference_extra_levels > 0)
+    if (reference_extra_levels > 0 && !reference_from_final_mesh)
       {
-        // Same input, finer initial mesh, one cycle, no estimate, no output
         std::cout << "Reference solution" << std::endl;
         TimerOutput::Scope t(timer, "reference solution");
-        std::ostringstream parameters;
-        prm.print_parameters(parameters, ParameterHandler::ShortPRM);
-        reference_parameters            = std::make_unique<ParameterHandler>();
-        ParameterHandler &reference_prm = *reference_parameters;
-        SignoriniProblem<dim>::declare_parameters(reference_prm);
-        reference_prm.parse_input_from_string(parameters.str());
-        reference_prm.enter_subsection("Mesh");
-        reference_prm.set("Initial refinements",
-                          static_cast<long int>(mesh_input.initial_refinements +
-                                                n_cycles - 1 +
-                                                reference_extra_levels));
-        reference_prm.leave_subsection();
-        reference_prm.enter_subsection("Error estimator");
-        reference_prm.set("Enable", false);
-        reference_prm.leave_subsection();
-        reference_prm.enter_subsection("Reference solution");
-        reference_prm.set("Extra refinements", 0l);
-        reference_prm.leave_subsection();
-        reference =
-          std::make_unique<SignoriniProblem<dim>>(reference_prm,
-                                                  mesh_input.input_directory);
-        reference->solve_once();
+        reference = solve_reference(mesh_input.initial_refinements + n_cycles -
+                                      1 + reference_extra_levels,
+                                    nullptr);
       }
     for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
       {
@@ -912,6 +1049,8 @@ namespace Signorini
           compute_exact_error();
         if (reference)
           compare_with_reference();
+        if (reference_extra_levels > 0 && reference_from_final_mesh)
+          keep_computation();
         output_results(cycle);
         if (!last_solve_converged)
           throw std::runtime_error(
@@ -928,6 +1067,8 @@ namespace Signorini
                     << " % not reached in " << n_cycles << " computations"
                     << std::endl;
       }
+    if (reference_extra_levels > 0 && reference_from_final_mesh)
+      compare_computations_with_final_reference();
     if (print_timing)
       timer.print_summary();
   }

@@ -28,6 +28,12 @@ namespace Signorini
     void
     add_value(const std::string &column, const unsigned int value);
 
+    /// Set @p column of the completed row @p row (results known only later).
+    void
+    set_value(const unsigned int row,
+              const std::string &column,
+              const double       value);
+
     /// Close the current row.
     void
     end_row();

@@ -96,9 +96,10 @@ namespace Signorini
     const LA::SparseMatrix &
     stiffness_matrix() const;
 
-    /// Solve the first cycle only and keep the result (a reference solution).
+    /// Solve once, on the initial mesh or on @p mesh, and keep the result (a
+    /// reference solution).
     void
-    solve_once();
+    solve_once(const Triangulation<dim> *mesh = nullptr);
 
   private:
     void
@@ -130,10 +131,40 @@ namespace Signorini
     void
     compute_exact_error();
 
-    /// eps_ex, the effectivity and the Prager-Synge check against the
-    /// reference solution.
+    /// The reference problem: the same input without estimate, adaptation
+    /// or output, solved on the initial mesh refined @p levels times or on
+    /// @p mesh.
+    std::unique_ptr<SignoriniProblem<dim>>
+    solve_reference(const unsigned int levels, const Triangulation<dim> *mesh);
+
+    struct ExactError
+    {
+      double eps_ex             = 0.; ///< ||U_ref - U_h|| / ||U_ref + U_h||
+      double effectivity        = 0.; ///< eps / eps_ex
+      double prager_synge_ratio = 0.; ///< ||U_ref - U^|| / e
+    };
+
+    /// Compare (U_h, U^) of a computation with the reference solution.
+    ExactError
+    exact_error(const DoFHandler<dim> &computation_dofs,
+                const Vector<double>  &u_h,
+                const Vector<double>  &u_hat,
+                const double           eps,
+                const double           e) const;
+
+    /// eps_ex, the effectivity and the Prager-Synge check of the current
+    /// cycle against a reference computed beforehand.
     void
     compare_with_reference();
+
+    /// The same for every computation, against a reference built from the
+    /// final mesh (after the cycles).
+    void
+    compare_computations_with_final_reference();
+
+    /// Keep the mesh and fields of the current cycle for the latter.
+    void
+    keep_computation();
 
     void
     estimate_error(const DiscreteContactProblem<dim> &problem);
@@ -203,8 +234,20 @@ namespace Signorini
     LA::Vector                                      admissible_displacement;
     double                                          estimate_seconds       = 0.;
     unsigned int                                    reference_extra_levels = 0;
-    std::unique_ptr<ParameterHandler>               reference_parameters;
-    std::unique_ptr<SignoriniProblem<dim>>          reference;
+    bool reference_from_final_mesh = false;
+    /// What a later comparison needs of each computation
+    struct Computation
+    {
+      Triangulation<dim> mesh;
+      DoFHandler<dim>    dof_handler;
+      Vector<double>     displacement;
+      Vector<double>     admissible_displacement;
+      double             eps = 0.;
+      double             e   = 0.;
+    };
+    std::vector<std::unique_ptr<Computation>> computations;
+    std::unique_ptr<ParameterHandler>         reference_parameters;
+    std::unique_ptr<SignoriniProblem<dim>>    reference;
 
     // Output
     TimerOutput                                 timer;

@@ -191,6 +191,20 @@ namespace Signorini
 
 
   template <int dim>
+  void
+  AdaptiveMesh<dim>::build_refined_conforming_mesh(
+    const unsigned int  extra_levels,
+    Triangulation<dim> &mesh) const
+  {
+    AdaptiveMesh<dim> finer;
+    finer.hierarchy.copy_triangulation(hierarchy);
+    finer.hierarchy.refine_global(extra_levels);
+    finer.build_conforming_mesh(mesh);
+  }
+
+
+
+  template <int dim>
   const std::vector<unsigned int> &
   AdaptiveMesh<dim>::levels() const
   {

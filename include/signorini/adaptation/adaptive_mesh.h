@@ -49,6 +49,12 @@ namespace Signorini
     void
     build_conforming_mesh(Triangulation<dim> &mesh);
 
+    /// The hierarchy refined @p extra_levels more times everywhere, made
+    /// conforming: a reference mesh finer than the computational one.
+    void
+    build_refined_conforming_mesh(const unsigned int  extra_levels,
+                                  Triangulation<dim> &mesh) const;
+
     /// Per active cell of the computational mesh: its hierarchy level.
     const std::vector<unsigned int> &
     levels() const;
