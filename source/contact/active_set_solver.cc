@@ -72,8 +72,9 @@ namespace Signorini
                                            initial_active :
                                            std::vector<bool>(m, false);
     std::set<std::vector<bool>> visited{active};
-    bool                        exact = (inexact_tolerance == 0.);
-    std::vector<bool>           preconditioned(m, false);
+    // (without constraints the first solve is the last: make it exact)
+    bool              exact = (inexact_tolerance == 0. || m == 0);
+    std::vector<bool> preconditioned(m, false);
 
     while (true)
       {

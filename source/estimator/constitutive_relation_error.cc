@@ -110,6 +110,11 @@ namespace Signorini
         // nodal forces of R^: (M R^_n)_k nu_c
         Vector<double> forces(boundary.n_nodes());
         boundary.mass_matrix().vmult(forces, normal_reaction);
+        // the preconditioner is that of the last active set: rebuild it for
+        // the operator without contact constraints (a third of the CG
+        // iterations at 4e5 DoFs)
+        problem.update_preconditioner(
+          std::vector<bool>(problem.n_constraints(), false));
         problem.solve_with_normal_forces(forces, equilibrated);
       }
 

@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Cost of the error estimate against one linear solve on the same mesh.
+
+For the paper's block refined L times (L = --min-level..--max-level) it runs
+the Release executable in separate processes and prints, per mesh: DoFs, the
+time of one linear elasticity solve (the contact zone removed; preconditioner
+setup + solve at the default tolerance), and for both contact conditions the
+time of the whole estimate (admissible fields, the extra solve of the
+pointwise condition when some Lambda_i > 0, element equilibration, eps_E)
+with its ratio to that solve. The contact solve of the measured mesh starts
+from the active set of the once coarser mesh (two cycles); only the last
+cycle is reported. Medians over --repeat runs.
+
+Usage: bench/estimator_bench.py [--min-level 4] [--max-level 7] [--repeat 3]
+"""
+import argparse
+import csv
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def run(exe, text, work):
+    prm = os.path.join(work, "case.prm")
+    with open(os.path.join(ROOT, "prm", "block.prm")) as base, \
+            open(prm, "w") as f:
+        f.write(base.read() + text + f"""
+set Output directory = {work}/out
+subsection Output
+  set Write vtu = false
+  set Print timing = false
+end
+""")
+    subprocess.run([exe, prm], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(work, "out", "statistics.csv")) as f:
+        return list(csv.DictReader(f))[-1]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--min-level", type=int, default=4)
+    parser.add_argument("--max-level", type=int, default=7)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    args = parser.parse_args()
+    exe = os.path.join(args.build, "signorini")
+
+    print("| level | DoFs | linear solve (s) | integral: estimate (s) | ratio "
+          "| pointwise: estimate (s) | ratio |")
+    print("|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as work:
+        for level in range(args.min_level, args.max_level + 1):
+            linear = []
+            for _ in range(args.repeat):
+                row = run(exe, f"""
+set Number of cycles = 1
+subsection Mesh
+  set Initial refinements = {level}
+end
+subsection Contact
+  set Boundary ids =
+end
+subsection Error estimator
+  set Enable = false
+end
+""", work)
+                linear.append(float(row["setup_seconds"]) +
+                              float(row["solve_seconds"]))
+            floor = statistics.median(linear)
+            cells = [str(level), row["dofs"], f"{floor:.3g}"]
+            for condition in ("integral", "pointwise"):
+                times = []
+                for _ in range(args.repeat):
+                    row = run(exe, f"""
+set Number of cycles = 2
+subsection Mesh
+  set Initial refinements = {level - 1}
+end
+subsection Contact
+  set Condition = {condition}
+end
+""", work)
+                    times.append(float(row["estimate_seconds"]))
+                estimate = statistics.median(times)
+                cells += [f"{estimate:.3g}", f"{estimate / floor:.2f}"]
+            print("| " + " | ".join(cells) + " |", flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
