@@ -7,7 +7,9 @@
 
 #include <signorini/nodal_interpolation.h>
 
+#include <algorithm>
 #include <array>
+#include <iterator>
 #include <stdexcept>
 
 namespace Signorini

@@ -18,10 +18,13 @@
 #include <signorini/signorini_problem.h>
 #include <signorini/stress_postprocessor.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace Signorini
 {
@@ -135,7 +138,7 @@ namespace Signorini
     contact_solver    = create_contact_solver<dim>(prm);
     linear_solver.parse_parameters(prm);
     estimator.parse_parameters(prm);
-    size_predictor = create_size_predictor(prm);
+    size_predictor = create_size_predictor<dim>(prm);
     if (size_predictor->name() != "uniform" && !estimator.enabled())
       throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
                        "> needs the error estimator (Error estimator/Enable)");
@@ -160,8 +163,7 @@ namespace Signorini
   SignoriniProblem<dim>::make_grid()
   {
     TimerOutput::Scope t(timer, "make grid");
-    adaptive_mesh.initialize(mesh_input);
-    adaptive_mesh.build_conforming_mesh(triangulation);
+    adaptive_mesh.initialize(mesh_input, triangulation);
 
     std::set<types::boundary_id> present;
     for (const auto &face : triangulation.active_face_iterators())
@@ -564,8 +566,7 @@ namespace Signorini
     for (unsigned int c = 0; c < n_cells; ++c)
       level_change[c] = static_cast<int>(
         std::ceil(std::log2(1. / prediction.size_ratio[c]) - 1e-10));
-    adaptive_mesh.remesh(mesh_input, level_change);
-    adaptive_mesh.build_conforming_mesh(triangulation);
+    adaptive_mesh.remesh(mesh_input, level_change, triangulation);
     predicted_cells = prediction.predicted_cells;
     if (size_predictor->name() != "uniform")
       std::cout << "   " << size_predictor->name() << " prediction: N* = "
@@ -886,9 +887,19 @@ namespace Signorini
   void
   SignoriniProblem<dim>::compare_computations_with_final_reference()
   {
+    // the last computational mesh refined uniformly: nested in it, so that
+    // the last computation compares exactly (earlier ones across green
+    // edges and where their mesh was finer)
+    const double n_reference_cells =
+      triangulation.n_active_cells() * std::pow(4., reference_extra_levels);
+    if (n_reference_cells > 3e7)
+      throw std::runtime_error(
+        "Reference solution/Extra refinements: the reference mesh would have " +
+        std::to_string(static_cast<long long>(n_reference_cells)) +
+        " cells (more than 3e7); lower it (computations written)");
     Triangulation<dim> reference_mesh;
-    adaptive_mesh.build_refined_conforming_mesh(reference_extra_levels,
-                                                reference_mesh);
+    reference_mesh.copy_triangulation(triangulation);
+    reference_mesh.refine_global(reference_extra_levels);
     std::cout << "Reference solution: the last mesh refined uniformly, "
               << reference_extra_levels << " extra level(s)" << std::endl;
     {
@@ -975,6 +986,9 @@ namespace Signorini
     if (mesh != nullptr)
       reference_problem->previous_contact_state = previous_contact_state;
     reference_problem->solve_once(mesh);
+    if (!reference_problem->last_solve_converged)
+      throw std::runtime_error(
+        "the contact solver did not converge for the reference solution");
     return reference_problem;
   }
 
@@ -1038,11 +1052,20 @@ namespace Signorini
                   << contact_condition->n_constraints() << " with a multiplier)"
                   << std::endl;
         if (size_predictor->name() != "uniform")
-          std::cout << "   mesh: " << triangulation.n_used_vertices()
-                    << " nodes, " << adaptive_mesh.n_green_cells()
-                    << " green cells, minimum angle " << std::setprecision(4)
-                    << minimum_angle(triangulation) << " degrees"
-                    << std::setprecision(6) << std::endl;
+          {
+            std::cout << "   mesh: " << triangulation.n_active_cells()
+                      << " cells";
+            if (cycle > 0)
+              std::cout << " (predicted N* = "
+                        << static_cast<unsigned long>(
+                             std::round(predicted_cells))
+                        << ")";
+            std::cout << ", " << triangulation.n_used_vertices() << " nodes, "
+                      << adaptive_mesh.n_green_cells()
+                      << " green cells, minimum angle " << std::setprecision(4)
+                      << minimum_angle(triangulation) << " degrees"
+                      << std::setprecision(6) << std::endl;
+          }
         assemble_system();
         solve_contact(cycle);
         if (exact_solution)

@@ -70,8 +70,7 @@ main()
 
   AdaptiveMesh<2>  adaptive;
   Triangulation<2> mesh;
-  adaptive.initialize(input);
-  adaptive.build_conforming_mesh(mesh);
+  adaptive.initialize(input, mesh);
   describe(mesh, adaptive);
 
   // three levels within 0.15 of the contact/separation point
@@ -80,8 +79,7 @@ main()
   for (const auto &cell : mesh.active_cell_iterators())
     if (cell->center().distance(separation) < 0.15)
       change[cell->active_cell_index()] = 3;
-  adaptive.remesh(input, change);
-  adaptive.build_conforming_mesh(mesh);
+  adaptive.remesh(input, change, mesh);
   describe(mesh, adaptive);
   unsigned int near = 0, near_fine = 0;
   for (const auto &cell : mesh.active_cell_iterators())
@@ -95,15 +93,13 @@ main()
 
   // one more level everywhere
   change.assign(mesh.n_active_cells(), 1);
-  adaptive.remesh(input, change);
-  adaptive.build_conforming_mesh(mesh);
+  adaptive.remesh(input, change, mesh);
   describe(mesh, adaptive);
 
   // back to the initial mesh: sizes grow
   change.resize(mesh.n_active_cells());
   for (unsigned int c = 0; c < change.size(); ++c)
     change[c] = -int(adaptive.levels()[c]);
-  adaptive.remesh(input, change);
-  adaptive.build_conforming_mesh(mesh);
+  adaptive.remesh(input, change, mesh);
   describe(mesh, adaptive);
 }

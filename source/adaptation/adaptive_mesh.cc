@@ -9,10 +9,12 @@ namespace Signorini
 {
   template <int dim>
   void
-  AdaptiveMesh<dim>::initialize(const MeshInput<dim> &input)
+  AdaptiveMesh<dim>::initialize(const MeshInput<dim> &input,
+                                Triangulation<dim>   &mesh)
   {
     hierarchy.clear();
     input.create(hierarchy);
+    build_conforming_mesh(mesh);
   }
 
 
@@ -20,7 +22,8 @@ namespace Signorini
   template <int dim>
   void
   AdaptiveMesh<dim>::remesh(const MeshInput<dim>   &input,
-                            const std::vector<int> &level_change)
+                            const std::vector<int> &level_change,
+                            Triangulation<dim>     &mesh)
   {
     AssertDimension(level_change.size(), hierarchy_cell_of.size());
     using cell_iterator = typename Triangulation<dim>::cell_iterator;
@@ -87,6 +90,7 @@ namespace Signorini
       }
     hierarchy.clear();
     hierarchy.copy_triangulation(next);
+    build_conforming_mesh(mesh);
   }
 
 
@@ -154,6 +158,12 @@ namespace Signorini
         else
           {
             const unsigned int f = split_face;
+            // deal.II keeps neighbours within one level across a face, so
+            // the face has exactly one hanging node, its midpoint
+            AssertThrow(!cell->face(f)->child(0)->has_children() &&
+                          !cell->face(f)->child(1)->has_children(),
+                        ExcMessage("green closure: a face with more than one "
+                                   "hanging node"));
             const unsigned int midpoint =
               cell->face(f)->child(0)->vertex_index(1);
             Assert(cell->face(f)->child(0)->vertex_index(0) == v(f) ||
@@ -186,20 +196,6 @@ namespace Signorini
                  cells[cell->active_cell_index()].vertices[0],
                ExcInternalError());
       }
-  }
-
-
-
-  template <int dim>
-  void
-  AdaptiveMesh<dim>::build_refined_conforming_mesh(
-    const unsigned int  extra_levels,
-    Triangulation<dim> &mesh) const
-  {
-    AdaptiveMesh<dim> finer;
-    finer.hierarchy.copy_triangulation(hierarchy);
-    finer.hierarchy.refine_global(extra_levels);
-    finer.build_conforming_mesh(mesh);
   }
 
 

@@ -17,6 +17,28 @@ namespace Signorini
 
 
 
+  void
+  FixedFractionPredictor::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Refined fraction",
+                      "0.5",
+                      Patterns::Double(0., 1.),
+                      "Fixed fraction strategy: share of eps^2 held by the "
+                      "halved elements.");
+  }
+
+
+
+  FixedFractionPredictor::FixedFractionPredictor(const unsigned int dim,
+                                                 const double      target_error,
+                                                 ParameterHandler &prm)
+    : FixedFractionPredictor(dim,
+                             target_error,
+                             prm.get_double("Refined fraction"))
+  {}
+
+
+
   std::string
   FixedFractionPredictor::name() const
   {

@@ -2,6 +2,7 @@
 
 #include <signorini/adaptation/mesh_quality.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -13,7 +14,8 @@ namespace Signorini
   minimum_angle(const Triangulation<dim> &mesh)
   {
     Assert(dim == 2, ExcNotImplemented());
-    double smallest = 180.;
+    double smallest    = 180.;
+    int    orientation = 0; // of the first cell: +1 or -1
     for (const auto &cell : mesh.active_cell_iterators())
       {
         const Point<dim> a = cell->vertex(0), b = cell->vertex(1),
@@ -21,7 +23,11 @@ namespace Signorini
         const double signed_area =
           0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
         const double scale = (b - a).norm_square() + (c - a).norm_square();
-        if (!(signed_area > 1e-14 * scale))
+        // degenerate, or oriented unlike the others (folded)
+        const int sign = signed_area > 0. ? 1 : -1;
+        if (orientation == 0)
+          orientation = sign;
+        if (!(std::abs(signed_area) > 1e-14 * scale) || sign != orientation)
           throw std::runtime_error("mesh cell " +
                                    std::to_string(cell->active_cell_index()) +
                                    " is inverted or degenerate");

@@ -23,6 +23,48 @@ namespace Signorini
 
 
 
+  void
+  OptimalSizePredictor::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Convergence rate",
+                      "1",
+                      Patterns::Double(0.05, 10.),
+                      "q in eps_E(h) ~ h^q: the a priori rate of the "
+                      "elements (p = 1 for P1).");
+    prm.declare_entry("Singular rate",
+                      "1",
+                      Patterns::Double(0.05, 10.),
+                      "Reduced rate for the elements with a vertex at a "
+                      "singular point (a change of boundary condition or "
+                      "a contact/separation point); equal to the "
+                      "convergence rate: no reduction.");
+    prm.declare_entry("Minimum size ratio",
+                      "0.0625",
+                      Patterns::Double(1e-3, 1.),
+                      "Lower limit of h*_E / h_E in one step (1/16: at "
+                      "most four halvings).");
+    prm.declare_entry("Maximum size ratio",
+                      "2",
+                      Patterns::Double(1., 1e3),
+                      "Upper limit of h*_E / h_E in one step (elements may "
+                      "grow: each mesh is rebuilt from the initial one).");
+  }
+
+
+
+  OptimalSizePredictor::OptimalSizePredictor(const unsigned int dim,
+                                             const double       target_error,
+                                             ParameterHandler  &prm)
+    : OptimalSizePredictor(dim,
+                           target_error,
+                           prm.get_double("Convergence rate"),
+                           prm.get_double("Singular rate"),
+                           prm.get_double("Minimum size ratio"),
+                           prm.get_double("Maximum size ratio"))
+  {}
+
+
+
   std::string
   OptimalSizePredictor::name() const
   {

@@ -14,6 +14,8 @@
 #include <signorini/estimator/element_equilibration.h>
 
 #include <array>
+#include <atomic>
+#include <exception>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -267,6 +269,45 @@ namespace Signorini
       std::array<FullMatrix<double>, 3> edge_moments;
     };
 
+    /**
+     * WorkStream::run over the active cells without a copier, for workers
+     * that write only their own cell's entries. deal.II 9.4 aborts the
+     * program on an exception in a worker: the first one is kept and
+     * rethrown here, so that it reaches the caller's error handling.
+     */
+    template <int dim, typename Scratch, typename Worker>
+    void
+    for_each_cell(const DoFHandler<dim> &dof_handler,
+                  const Worker          &worker,
+                  const Scratch         &scratch)
+    {
+      using Iterator = typename DoFHandler<dim>::active_cell_iterator;
+      struct NoCopy
+      {};
+      std::exception_ptr error;
+      std::mutex         error_mutex;
+      WorkStream::run(
+        dof_handler.begin_active(),
+        Iterator(dof_handler.end()),
+        [&](const Iterator &cell, Scratch &scratch_data, NoCopy &) {
+          try
+            {
+              worker(cell, scratch_data);
+            }
+          catch (...)
+            {
+              std::lock_guard<std::mutex> lock(error_mutex);
+              if (!error)
+                error = std::current_exception();
+            }
+        },
+        [](const NoCopy &) {},
+        scratch,
+        NoCopy());
+      if (error)
+        std::rethrow_exception(error);
+    }
+
     enum class FaceKind
     {
       interior,
@@ -407,14 +448,11 @@ namespace Signorini
         : CellScratch(other.fe_values)
       {}
     };
-    struct NoCopyData
-    {};
-    WorkStream::run(
-      dof_handler.begin_active(),
-      dof_handler.end(),
+    std::atomic<bool> body_force_present{false};
+    for_each_cell(
+      dof_handler,
       [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-          CellScratch                                          &scratch,
-          NoCopyData &) {
+          CellScratch                                          &scratch) {
         const unsigned int E             = cell->active_cell_index();
         FEValues<dim>     &fe_values     = scratch.fe_values;
         auto              &strain_values = scratch.strain_values;
@@ -428,6 +466,9 @@ namespace Signorini
         strain_hat[E] = strain_values[0];
         bc.body_force->vector_value_list(fe_values.get_quadrature_points(),
                                          force);
+        for (const auto &value : force)
+          if (value.l2_norm() != 0.)
+            body_force_present = true;
         for (const unsigned int v : cell->vertex_indices())
           {
             cell_vertices[E][v] = cell->vertex_index(v);
@@ -448,9 +489,7 @@ namespace Signorini
         for (const unsigned int f : cell->face_indices())
           cell_faces[E][f] = cell->face(f)->index();
       },
-      [](const NoCopyData &) {},
-      CellScratch(fe_values),
-      NoCopyData());
+      CellScratch(fe_values));
 
     // the faces, in cell order (which cell is "first" must not depend on
     // the thread schedule)
@@ -834,18 +873,9 @@ namespace Signorini
 
     // full load of a cell (body force with the rule of the assembly, so
     // that the element data are in equilibrium to round-off), and checks
-    const bool has_body_force = [&]() {
-      // the body force is zero for most cases: skip its evaluation then
-      std::vector<Vector<double>> f(1, Vector<double>(2));
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        {
-          bc.body_force->vector_value_list({cell->center()}, f);
-          if (f[0].l2_norm() != 0.)
-            return true;
-        }
-      return false;
-    }();
-    const auto local_load = [&](const auto &cell, const Geometry &g) {
+    // (the body force is zero in most cases: skip its evaluation then)
+    const bool has_body_force = body_force_present;
+    const auto local_load     = [&](const auto &cell, const Geometry &g) {
       const unsigned int E = cell->active_cell_index();
       Vector<double>     load(n);
       Tensor<1, 2>       resultant;
@@ -885,8 +915,8 @@ namespace Signorini
       return load;
     };
 
-    // coefficients of U^ (its strain) in the local basis: xi e_x, eta e_y,
-    // eta e_x + xi e_y carry h eps_xx, h eps_yy, h eps_xy
+    // coefficients of U^ (its strain) in the local space: l_0 e_x, l_1 e_y,
+    // l_1 e_x + l_0 e_y carry h eps_xx, h eps_yy, h eps_xy
     const auto admissible_coefficients = [&](const unsigned int E,
                                              const Geometry    &g) {
       Vector<double> u_hat(n);
@@ -985,12 +1015,9 @@ namespace Signorini
     // --- 6. sigma^ = K eps(v) and the error per element (cells in parallel)
     struct NoScratch
     {};
-    struct NoCopy
-    {};
     const auto element_error =
       [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-          NoScratch &,
-          NoCopy &) {
+          NoScratch &) {
         const unsigned int E = cell->active_cell_index();
         const Geometry     g = geometry(cell);
         // ||sigma^ -/+ K eps(U^)||^2 = (v -/+ u^)^T K_E (v -/+ u^)
@@ -1008,13 +1035,7 @@ namespace Signorini
         error_squared[E] = stiffness.matrix_norm_square(minus);
         sum_squared[E]   = stiffness.matrix_norm_square(plus);
       };
-    WorkStream::run(
-      dof_handler.begin_active(),
-      dof_handler.end(),
-      element_error,
-      [](const NoCopy &) {},
-      NoScratch(),
-      NoCopy());
+    for_each_cell(dof_handler, element_error, NoScratch());
   }
 
   template class ElementEquilibration<2>;

@@ -32,28 +32,22 @@ namespace Signorini
   class AdaptiveMesh
   {
   public:
-    /// The hierarchy becomes the initial mesh of @p input.
+    /// The hierarchy becomes the initial mesh of @p input; its conforming
+    /// version (the same mesh) is written into @p mesh.
     void
-    initialize(const MeshInput<dim> &input);
+    initialize(const MeshInput<dim> &input, Triangulation<dim> &mesh);
 
     /**
      * Rebuild the hierarchy from the initial mesh so that the region of
-     * every computational cell c is refined to the level
+     * every cell c of the current computational mesh is refined to the level
      * max(level(c) + level_change[c], initial level); where regions of
-     * different requests meet, the finest wins.
+     * different requests meet, the finest wins. The new conforming mesh is
+     * written into @p mesh.
      */
     void
-    remesh(const MeshInput<dim> &input, const std::vector<int> &level_change);
-
-    /// Close the hierarchy and write its conforming version into @p mesh.
-    void
-    build_conforming_mesh(Triangulation<dim> &mesh);
-
-    /// The hierarchy refined @p extra_levels more times everywhere, made
-    /// conforming: a reference mesh finer than the computational one.
-    void
-    build_refined_conforming_mesh(const unsigned int  extra_levels,
-                                  Triangulation<dim> &mesh) const;
+    remesh(const MeshInput<dim>   &input,
+           const std::vector<int> &level_change,
+           Triangulation<dim>     &mesh);
 
     /// Per active cell of the computational mesh: its hierarchy level.
     const std::vector<unsigned int> &
@@ -64,6 +58,10 @@ namespace Signorini
     n_green_cells() const;
 
   private:
+    /// Close the hierarchy (green closure) and write it into @p mesh.
+    void
+    build_conforming_mesh(Triangulation<dim> &mesh);
+
     Triangulation<dim>        hierarchy;
     std::vector<unsigned int> hierarchy_cell_of; // active cell index
     std::vector<unsigned int> level_of;

@@ -13,6 +13,15 @@ namespace Signorini
   class FixedFractionPredictor : public SizePredictor
   {
   public:
+    /// Its entries of the "Mesh adaptation" section (entered by the caller).
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Read from the "Mesh adaptation" section (entered by the caller).
+    FixedFractionPredictor(const unsigned int dim,
+                           const double       target_error,
+                           ParameterHandler  &prm);
+
     FixedFractionPredictor(const unsigned int dim,
                            const double       target_error,
                            const double       fraction);

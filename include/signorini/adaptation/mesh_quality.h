@@ -12,7 +12,8 @@ namespace Signorini
   using namespace dealii;
 
   /// The smallest interior angle of all triangles, in degrees; throws if a
-  /// cell is inverted or degenerate (non-positive signed area).
+  /// cell is degenerate (zero area) or inverted (oriented unlike the first
+  /// cell).
   template <int dim>
   double
   minimum_angle(const Triangulation<dim> &mesh);

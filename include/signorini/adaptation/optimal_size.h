@@ -21,6 +21,15 @@ namespace Signorini
   class OptimalSizePredictor : public SizePredictor
   {
   public:
+    /// Its entries of the "Mesh adaptation" section (entered by the caller).
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Read from the "Mesh adaptation" section (entered by the caller).
+    OptimalSizePredictor(const unsigned int dim,
+                         const double       target_error,
+                         ParameterHandler  &prm);
+
     OptimalSizePredictor(const unsigned int dim,
                          const double       target_error,
                          const double       rate,

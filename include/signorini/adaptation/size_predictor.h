@@ -36,7 +36,8 @@ namespace Signorini
       Vector<double> size_ratio;
       /// N* = sum_E r_E^-d: the element count of the predicted mesh
       double predicted_cells = 0.;
-      /// sum_E eps_E^2 r_E^(2 q_E): the error the predicted mesh should give
+      /// (sum_E eps_E^2 r_E^(2 q_E))^(1/2): the error the predicted mesh
+      /// should give
       double predicted_error = 0.;
     };
 
@@ -53,28 +54,14 @@ namespace Signorini
     double tolerance    = 0.05;
   };
 
-  /// Halve every element: the uniform sequence of the convergence study.
-  class UniformRefinement : public SizePredictor
-  {
-  public:
-    UniformRefinement(const unsigned int dim, const double target_error);
-
-    std::string
-    name() const override;
-
-    Prediction
-    predict(const Input &input) const override;
-
-  private:
-    unsigned int dim;
-  };
-
-  /// The "Mesh adaptation" section: strategy, target and the parameters of
-  /// every predictor.
+  /// The "Mesh adaptation" section: strategy and target here, then the
+  /// parameters each predictor declares.
   void
   declare_size_predictor_parameters(ParameterHandler &prm);
 
-  /// Throws InputError for inconsistent input.
+  /// The predictor the "Mesh adaptation" section asks for; throws
+  /// InputError for inconsistent input.
+  template <int dim>
   std::unique_ptr<SizePredictor>
   create_size_predictor(ParameterHandler &prm);
 } // namespace Signorini
