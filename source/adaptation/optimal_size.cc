@@ -35,9 +35,9 @@ namespace Signorini
                       "1",
                       Patterns::Double(0.05, 10.),
                       "Reduced rate for the elements with a vertex at a "
-                      "singular point (a change of boundary condition or "
-                      "a contact/separation point); equal to the "
-                      "convergence rate: no reduction.");
+                      "singular point (where the boundary id changes, or a "
+                      "contact/separation point of the active set); equal to "
+                      "the convergence rate: no reduction.");
     prm.declare_entry("Minimum size ratio",
                       "0.0625",
                       Patterns::Double(1e-3, 1.),
