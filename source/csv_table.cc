@@ -8,11 +8,31 @@
 
 namespace Signorini
 {
+  namespace
+  {
+    /// Ten significant digits: enough for the regression comparisons.
+    std::string
+    format(const double value)
+    {
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.10g", value);
+      return text;
+    }
+
+    void
+    add_column(std::vector<std::string> &columns, const std::string &column)
+    {
+      if (std::find(columns.begin(), columns.end(), column) == columns.end())
+        columns.push_back(column);
+    }
+  } // namespace
+
+
+
   void
   CsvTable::add_value(const std::string &column, const std::string &value)
   {
-    if (std::find(columns.begin(), columns.end(), column) == columns.end())
-      columns.push_back(column);
+    add_column(columns, column);
     current[column] = value;
   }
 
@@ -21,9 +41,7 @@ namespace Signorini
   void
   CsvTable::add_value(const std::string &column, const double value)
   {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.10g", value);
-    add_value(column, std::string(text));
+    add_value(column, format(value));
   }
 
 
@@ -34,11 +52,8 @@ namespace Signorini
                       const double       value)
   {
     AssertIndexRange(row, rows.size());
-    if (std::find(columns.begin(), columns.end(), column) == columns.end())
-      columns.push_back(column);
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.10g", value);
-    rows[row][column] = text;
+    add_column(columns, column);
+    rows[row][column] = format(value);
   }
 
 

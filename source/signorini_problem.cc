@@ -139,7 +139,7 @@ namespace Signorini
     linear_solver.parse_parameters(prm);
     estimator.parse_parameters(prm);
     size_predictor = create_size_predictor<dim>(prm);
-    if (size_predictor->name() != "uniform" && !estimator.enabled())
+    if (size_predictor->uses_estimate() && !estimator.enabled())
       throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
                        "> needs the error estimator (Error estimator/Enable)");
     if (size_predictor->target_error > 0. && !estimator.enabled())
@@ -507,15 +507,15 @@ namespace Signorini
 
 
   template <int dim>
-  std::vector<Point<dim>>
-  SignoriniProblem<dim>::contact_transition_points() const
+  std::vector<unsigned int>
+  SignoriniProblem<dim>::contact_transition_vertices() const
   {
     // state of every node of GC: -1 no multiplier, 0 separated, 1 active
     std::vector<int> state(contact_boundary.n_nodes(), -1);
     const auto      &multiplier_nodes = contact_boundary.multiplier_nodes();
     for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
       state[multiplier_nodes[i]] = active_rows[i] ? 1 : 0;
-    std::vector<Point<dim>> points;
+    std::vector<unsigned int> vertices;
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary() &&
@@ -527,11 +527,11 @@ namespace Signorini
               contact_boundary.node_index(face->vertex_index(1));
             if (state[a] >= 0 && state[b] >= 0 && state[a] != state[b])
               {
-                points.push_back(face->vertex(0));
-                points.push_back(face->vertex(1));
+                vertices.push_back(face->vertex_index(0));
+                vertices.push_back(face->vertex_index(1));
               }
           }
-    return points;
+    return vertices;
   }
 
 
@@ -556,7 +556,7 @@ namespace Signorini
     const Vector<double> local_error =
       estimator.enabled() ? estimate.local : Vector<double>(n_cells);
     const std::vector<bool> near_singularity =
-      cells_near_singular_points(triangulation, contact_transition_points());
+      cells_near_singular_points(triangulation, contact_transition_vertices());
     const SizePredictor::Prediction prediction =
       size_predictor->predict({local_error, near_singularity});
 
@@ -568,7 +568,7 @@ namespace Signorini
         std::ceil(std::log2(1. / prediction.size_ratio[c]) - 1e-10));
     adaptive_mesh.remesh(mesh_input, level_change, triangulation);
     predicted_cells = prediction.predicted_cells;
-    if (size_predictor->name() != "uniform")
+    if (size_predictor->uses_estimate())
       std::cout << "   " << size_predictor->name() << " prediction: N* = "
                 << static_cast<unsigned long>(std::round(predicted_cells))
                 << " elements for eps* = " << std::setprecision(4)
@@ -1051,7 +1051,7 @@ namespace Signorini
                   << contact_boundary.n_nodes() << " nodes on GC ("
                   << contact_condition->n_constraints() << " with a multiplier)"
                   << std::endl;
-        if (size_predictor->name() != "uniform")
+        if (size_predictor->uses_estimate())
           {
             std::cout << "   mesh: " << triangulation.n_active_cells()
                       << " cells";

@@ -116,8 +116,8 @@ namespace Signorini
 
     /// The last contact and first separated nodes of GC (multiplier nodes on
     /// both ends of a contact edge with different states).
-    std::vector<Point<dim>>
-    contact_transition_points() const;
+    std::vector<unsigned int>
+    contact_transition_vertices() const;
 
     void
     setup_system();

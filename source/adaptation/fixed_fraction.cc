@@ -58,25 +58,21 @@ namespace Signorini
       return eps_E[a] > eps_E[b];
     });
 
-    Prediction prediction;
-    prediction.size_ratio.reinit(n);
-    prediction.size_ratio = 1.;
-    const double total    = eps_E.norm_sqr();
-    double       held     = 0.;
+    Vector<double> size_ratio(n);
+    size_ratio         = 1.;
+    const double total = eps_E.norm_sqr();
+    double       held  = 0.;
     for (const unsigned int c : order)
       {
         if (held >= fraction * total)
           break;
         held += eps_E[c] * eps_E[c];
-        prediction.size_ratio[c] = 0.5;
+        size_ratio[c] = 0.5;
       }
-    for (unsigned int c = 0; c < n; ++c)
-      {
-        const double r = prediction.size_ratio[c];
-        prediction.predicted_cells += std::pow(r, -double(dim));
-        prediction.predicted_error += eps_E[c] * eps_E[c] * r * r;
-      }
-    prediction.predicted_error = std::sqrt(prediction.predicted_error);
-    return prediction;
+    // the P1 rate q = 1 for the predicted error
+    return prediction_of(std::move(size_ratio),
+                         eps_E,
+                         std::vector<double>(n, 1.),
+                         dim);
   }
 } // namespace Signorini

@@ -50,8 +50,8 @@ namespace Signorini
 
   template <int dim>
   std::vector<bool>
-  cells_near_singular_points(const Triangulation<dim>      &mesh,
-                             const std::vector<Point<dim>> &extra_points)
+  cells_near_singular_points(const Triangulation<dim>        &mesh,
+                             const std::vector<unsigned int> &extra_vertices)
   {
     // boundary ids met at every boundary vertex
     std::vector<std::set<types::boundary_id>> ids(mesh.n_vertices());
@@ -62,17 +62,14 @@ namespace Signorini
     std::vector<bool> singular(mesh.n_vertices(), false);
     for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
       singular[v] = ids[v].size() > 1;
+    for (const unsigned int v : extra_vertices)
+      singular[v] = true;
 
     std::vector<bool> near(mesh.n_active_cells(), false);
     for (const auto &cell : mesh.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
-        {
-          bool at_extra = false;
-          for (const auto &p : extra_points)
-            at_extra |= cell->vertex(v).distance(p) < 1e-10 * cell->diameter();
-          if (singular[cell->vertex_index(v)] || at_extra)
-            near[cell->active_cell_index()] = true;
-        }
+        if (singular[cell->vertex_index(v)])
+          near[cell->active_cell_index()] = true;
     return near;
   }
 
@@ -80,5 +77,5 @@ namespace Signorini
   minimum_angle(const Triangulation<2> &);
   template std::vector<bool>
   cells_near_singular_points(const Triangulation<2> &,
-                             const std::vector<Point<2>> &);
+                             const std::vector<unsigned int> &);
 } // namespace Signorini

@@ -119,14 +119,9 @@ namespace Signorini
           upper = middle;
       }
 
-    Prediction prediction;
-    prediction.size_ratio.reinit(n);
+    Vector<double> size_ratio(n);
     for (unsigned int c = 0; c < n; ++c)
-      {
-        prediction.size_ratio[c] = std::exp(log_ratio(c, upper));
-        prediction.predicted_cells += std::pow(prediction.size_ratio[c], -d);
-      }
-    prediction.predicted_error = std::sqrt(error_squared(upper));
-    return prediction;
+      size_ratio[c] = std::exp(log_ratio(c, upper));
+    return prediction_of(std::move(size_ratio), eps_E, q, dim);
   }
 } // namespace Signorini

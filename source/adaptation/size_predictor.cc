@@ -4,9 +4,31 @@
 #include <signorini/adaptation/uniform_refinement.h>
 #include <signorini/input_error.h>
 
+#include <cmath>
 
 namespace Signorini
 {
+  SizePredictor::Prediction
+  SizePredictor::prediction_of(Vector<double>             size_ratio,
+                               const Vector<double>      &local_error,
+                               const std::vector<double> &rate,
+                               const unsigned int         dim)
+  {
+    Prediction prediction;
+    double     error_squared = 0.;
+    for (unsigned int c = 0; c < size_ratio.size(); ++c)
+      {
+        prediction.predicted_cells += std::pow(size_ratio[c], -double(dim));
+        error_squared += local_error[c] * local_error[c] *
+                         std::pow(size_ratio[c], 2. * rate[c]);
+      }
+    prediction.predicted_error = std::sqrt(error_squared);
+    prediction.size_ratio      = std::move(size_ratio);
+    return prediction;
+  }
+
+
+
   void
   declare_size_predictor_parameters(ParameterHandler &prm)
   {

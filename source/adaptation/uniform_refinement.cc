@@ -13,6 +13,14 @@ namespace Signorini
 
 
 
+  bool
+  UniformRefinement::uses_estimate() const
+  {
+    return false;
+  }
+
+
+
   std::string
   UniformRefinement::name() const
   {
@@ -24,13 +32,13 @@ namespace Signorini
   SizePredictor::Prediction
   UniformRefinement::predict(const Input &input) const
   {
-    Prediction         prediction;
     const unsigned int n = input.local_error.size();
-    prediction.size_ratio.reinit(n);
-    prediction.size_ratio      = 0.5;
-    prediction.predicted_cells = n * std::pow(2., dim);
-    // with the P1 rate q = 1 every contribution halves
-    prediction.predicted_error = 0.5 * input.local_error.l2_norm();
-    return prediction;
+    Vector<double>     size_ratio(n);
+    size_ratio = 0.5;
+    // the P1 rate q = 1 for the predicted error
+    return prediction_of(std::move(size_ratio),
+                         input.local_error,
+                         std::vector<double>(n, 1.),
+                         dim);
   }
 } // namespace Signorini

@@ -42,7 +42,9 @@ namespace Signorini
     class LocalSpace
     {
     public:
-      explicit LocalSpace(const unsigned int degree)
+      /// @p body_quadrature: the rule of the body-force loads
+      LocalSpace(const unsigned int   degree,
+                 const Quadrature<2> &body_quadrature)
       {
         for (unsigned int d = 1; d <= degree; ++d)
           for (unsigned int q = 0; q <= d; ++q)
@@ -92,6 +94,11 @@ namespace Signorini
                     edge_moments[e](r, 1) += value[r] * s * edge_rule.weight(q);
                   }
               }
+          }
+        for (unsigned int q = 0; q < body_quadrature.size(); ++q)
+          {
+            body_values.push_back(values(body_quadrature.point(q)));
+            body_weights.push_back(body_quadrature.weight(q));
           }
       }
 
@@ -236,19 +243,18 @@ namespace Signorini
       /// sum_q w_q f(x_q) . phi_f(x_q) |det| for a reference quadrature
       void
       add_body_load(const FullMatrix<double>          &T,
-                    const Quadrature<2>               &quadrature,
                     const std::vector<Vector<double>> &force,
                     const double                       det,
                     Vector<double>                    &load) const
       {
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
+        for (unsigned int q = 0; q < body_weights.size(); ++q)
           {
-            const auto          m = values(quadrature.point(q));
-            std::vector<double> s(n_scalars, 0.);
+            const std::vector<double> &m = body_values[q];
+            std::vector<double>        s(n_scalars, 0.);
             for (unsigned int j = 0; j < n_scalars; ++j)
               for (unsigned int r = 0; r < n_monomials; ++r)
                 s[j] += T(j, r) * m[r];
-            const double JxW = quadrature.weight(q) * det;
+            const double JxW = body_weights[q] * det;
             for (unsigned int f = 0; f < size(); ++f)
               for (const auto &[j, c, alpha] : functions[f])
                 load[f] += alpha * s[j] * force[q][c] * JxW;
@@ -267,6 +273,9 @@ namespace Signorini
       std::vector<std::vector<Term>>    functions;
       std::array<FullMatrix<double>, 4> gradient_products;
       std::array<FullMatrix<double>, 3> edge_moments;
+      // m_r at the points of the body-force rule, and its weights
+      std::vector<std::vector<double>> body_values;
+      std::vector<double>              body_weights;
     };
 
     /**
@@ -767,7 +776,7 @@ namespace Signorini
     update_densities();
 
     // --- 4. local Neumann problems -----------------------------------------
-    const LocalSpace   space(local_degree);
+    const LocalSpace   space(local_degree, quadrature);
     const unsigned int n = space.size();
     std::mutex         defect_mutex;
 
@@ -815,13 +824,12 @@ namespace Signorini
     const auto local_stiffness = [&](const Geometry &g) {
       return space.stiffness(g.T, g.J_inverse, g.det, D);
     };
-    // factorised local stiffness matrix
-    const auto local_matrix = [&](const Geometry &g) {
-      LAPACKFullMatrix<double> stiffness(n, n);
-      stiffness = local_stiffness(g);
-      stiffness.set_property(LAPACKSupport::symmetric);
-      stiffness.compute_cholesky_factorization();
-      return stiffness;
+    const auto factorised = [&](const FullMatrix<double> &stiffness) {
+      LAPACKFullMatrix<double> factor(n, n);
+      factor = stiffness;
+      factor.set_property(LAPACKSupport::symmetric);
+      factor.compute_cholesky_factorization();
+      return factor;
     };
 
     // load of a linear density (nodal values at data.vertices) on the face
@@ -896,7 +904,7 @@ namespace Signorini
               moment += cross_product_2d(points[q] - g.center) * f * JxW;
               data_scale += f.norm() * JxW;
             }
-          space.add_body_load(g.T, quadrature, f_values, g.det, load);
+          space.add_body_load(g.T, f_values, g.det, load);
         }
       for (const unsigned int f : cell->face_indices())
         {
@@ -955,9 +963,10 @@ namespace Signorini
             const auto        &directions = directions_of_cell[E];
             if (directions.empty())
               continue;
-            const Geometry           geo       = geometry(cell);
-            LAPACKFullMatrix<double> stiffness = local_matrix(geo);
-            Vector<double>           w         = local_load(cell, geo);
+            const Geometry           geo = geometry(cell);
+            LAPACKFullMatrix<double> stiffness =
+              factorised(local_stiffness(geo));
+            Vector<double> w = local_load(cell, geo);
             stiffness.solve(w);
             w -= admissible_coefficients(E, geo);
             std::vector<Vector<double>> delta_load(directions.size(),
@@ -1022,12 +1031,8 @@ namespace Signorini
         const Geometry     g = geometry(cell);
         // ||sigma^ -/+ K eps(U^)||^2 = (v -/+ u^)^T K_E (v -/+ u^)
         const FullMatrix<double> stiffness = local_stiffness(g);
-        LAPACKFullMatrix<double> factor(n, n);
-        factor = stiffness;
-        factor.set_property(LAPACKSupport::symmetric);
-        factor.compute_cholesky_factorization();
-        Vector<double> v = local_load(cell, g);
-        factor.solve(v);
+        Vector<double>           v         = local_load(cell, g);
+        factorised(stiffness).solve(v);
         const Vector<double> u_hat = admissible_coefficients(E, g);
         Vector<double>       minus(v), plus(v);
         minus -= u_hat;

@@ -23,13 +23,13 @@ namespace Signorini
    * those with a vertex at a singular point. Singular points are found, not
    * given: the boundary vertices where the boundary id changes (a change of
    * boundary condition: clamped to free, end of a load, edge of the contact
-   * zone) and the vertices in @p extra_points (the last contact and first
+   * zone) and the vertices @p extra_vertices (the last contact and first
    * separated node of GC, from the solver's active set).
    */
   template <int dim>
   std::vector<bool>
-  cells_near_singular_points(const Triangulation<dim>      &mesh,
-                             const std::vector<Point<dim>> &extra_points);
+  cells_near_singular_points(const Triangulation<dim>        &mesh,
+                             const std::vector<unsigned int> &extra_vertices);
 } // namespace Signorini
 
 #endif

@@ -49,9 +49,25 @@ namespace Signorini
     virtual Prediction
     predict(const Input &input) const = 0;
 
+    /// Does the prediction use eps_E (and so need the estimator)?
+    virtual bool
+    uses_estimate() const
+    {
+      return true;
+    }
+
     /// Stop adapting once eps <= target * (1 + tolerance); 0: never.
     double target_error = 0.;
     double tolerance    = 0.05;
+
+  protected:
+    /// The prediction made of @p size_ratio: N* and the error it should
+    /// give with the local rates @p rate (in dimension @p dim).
+    static Prediction
+    prediction_of(Vector<double>             size_ratio,
+                  const Vector<double>      &local_error,
+                  const std::vector<double> &rate,
+                  const unsigned int         dim);
   };
 
   /// The "Mesh adaptation" section: strategy and target here, then the

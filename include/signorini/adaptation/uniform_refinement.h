@@ -17,6 +17,9 @@ namespace Signorini
     Prediction
     predict(const Input &input) const override;
 
+    bool
+    uses_estimate() const override;
+
   private:
     unsigned int dim;
   };
