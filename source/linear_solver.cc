@@ -10,11 +10,46 @@ namespace Signorini
   {
     using Lines = AffineConstraints<double>::LineRange;
 
+    /**
+     * The constraint lines as a rank needs them: those of its own dofs, and
+     * the dofs that lines with entries couple (the few active contact rows
+     * of the integral condition, hanging nodes), whose values are imported
+     * when there are any.
+     */
+    struct DistributedLines
+    {
+      DistributedLines(const Lines lines, const IndexSet &owned)
+      {
+        coupled.set_size(owned.size());
+        for (const auto &line : lines)
+          {
+            if (owned.is_element(line.index))
+              own.push_back(&line);
+            if (!line.entries.empty())
+              {
+                coupled.add_index(line.index);
+                for (const auto &entry : line.entries)
+                  coupled.add_index(entry.first);
+              }
+          }
+        coupled.compress();
+        for (const auto *line : own)
+          if (!line->entries.empty())
+            own_with_entries.push_back(line);
+      }
+
+      using Line = AffineConstraints<double>::ConstraintLine;
+      std::vector<const Line *> own;
+      std::vector<const Line *> own_with_entries;
+      IndexSet                  coupled; // the same on every rank
+    };
+
     /// C^T K C + Id_c: K acting on the dofs the constraints leave free.
     class ConstrainedOperator
     {
     public:
-      ConstrainedOperator(const LA::SparseMatrix &matrix, const Lines lines)
+      ConstrainedOperator(const LA::SparseMatrix &matrix,
+                          const DistributedLines &lines)
         : matrix(matrix)
         , lines(lines)
       {}
@@ -22,40 +57,53 @@ namespace Signorini
       void
       vmult(LA::Vector &dst, const LA::Vector &src) const
       {
+        const bool coupling = !lines.coupled.is_empty();
+        if (coupling)
+          ghosted = with_ghosts(src, lines.coupled);
         distributed.reinit(src, /*omit_zeroing_entries=*/true);
         distributed = src;
-        for (const auto &line : lines)
+        for (const auto *line : lines.own)
           {
             double value = 0.;
-            for (const auto &[j, w] : line.entries)
-              value += w * src[j];
-            distributed[line.index] = value;
+            for (const auto &[j, w] : line->entries)
+              value += w * ghosted[j];
+            distributed[line->index] = value;
           }
         distributed.compress(VectorOperation::insert);
         matrix.vmult(dst, distributed);
-        for (const auto &line : lines)
-          for (const auto &[j, w] : line.entries)
-            dst[j] += w * dst[line.index];
-        dst.compress(VectorOperation::add);
-        for (const auto &line : lines)
-          dst[line.index] = src[line.index];
+        if (coupling)
+          {
+            // (the masters may belong to other ranks: add, then exchange)
+            std::vector<types::global_dof_index> indices;
+            std::vector<double>                  values;
+            for (const auto *line : lines.own_with_entries)
+              for (const auto &[j, w] : line->entries)
+                {
+                  indices.push_back(j);
+                  values.push_back(w * dst[line->index]);
+                }
+            dst.add(indices, values);
+            dst.compress(VectorOperation::add);
+          }
+        for (const auto *line : lines.own)
+          dst[line->index] = src[line->index];
         dst.compress(VectorOperation::insert);
       }
 
     private:
       const LA::SparseMatrix &matrix;
-      const Lines             lines;
+      const DistributedLines &lines;
       mutable LA::Vector      distributed;
+      mutable LA::Vector      ghosted;
     };
-
-
 
     /// Id_c + (P^{-1} restricted to the free dofs), P the base-condensed K.
     template <typename Inner>
     class ConstrainedPreconditioner
     {
     public:
-      ConstrainedPreconditioner(const Inner &inner, const Lines lines)
+      ConstrainedPreconditioner(const Inner            &inner,
+                                const DistributedLines &lines)
         : inner(inner)
         , lines(lines)
       {}
@@ -65,19 +113,19 @@ namespace Signorini
       {
         restricted.reinit(src, true);
         restricted = src;
-        for (const auto &line : lines)
-          restricted[line.index] = 0.;
+        for (const auto *line : lines.own)
+          restricted[line->index] = 0.;
         restricted.compress(VectorOperation::insert);
         inner(dst, restricted);
-        for (const auto &line : lines)
-          dst[line.index] = src[line.index];
+        for (const auto *line : lines.own)
+          dst[line->index] = src[line->index];
         dst.compress(VectorOperation::insert);
       }
 
     private:
-      const Inner       &inner;
-      const Lines        lines;
-      mutable LA::Vector restricted;
+      const Inner            &inner;
+      const DistributedLines &lines;
+      mutable LA::Vector      restricted;
     };
   } // namespace
 
@@ -167,16 +215,20 @@ namespace Signorini
         return;
       }
     modified_matrix.copy_from(*condensed_matrix);
-    // zero the columns (the pattern is symmetric), then the rows
+    // zero the rows and columns of the eliminated dofs in the rows this rank
+    // owns (the list is the same on every rank)
+    std::vector<bool> eliminated(condensed_matrix->n(), false);
     for (const auto dof : eliminated_dofs)
-      for (auto entry = condensed_matrix->begin(dof);
-           entry != condensed_matrix->end(dof);
+      eliminated[dof] = true;
+    const auto [first, last] = condensed_matrix->local_range();
+    for (auto row = first; row < last; ++row)
+      for (auto entry = condensed_matrix->begin(row);
+           entry != condensed_matrix->end(row);
            ++entry)
-        if (entry->column() != dof)
-          modified_matrix.set(entry->column(), dof, 0.);
+        if (entry->column() != row &&
+            (eliminated[row] || eliminated[entry->column()]))
+          modified_matrix.set(row, entry->column(), 0.);
     modified_matrix.compress(VectorOperation::insert);
-    for (const auto dof : eliminated_dofs)
-      modified_matrix.clear_row(dof, condensed_matrix->diag_element(dof));
     build_preconditioner(modified_matrix);
   }
 
@@ -229,27 +281,34 @@ namespace Signorini
                           const double                     tolerance_) const
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
-    const auto lines = constraints.get_lines();
-
+    const DistributedLines lines(constraints.get_lines(),
+                                 load.locally_owned_elements());
     // right-hand side C^T (f - K k) + Id_c k
     LA::Vector inhomogeneity(load);
     inhomogeneity = 0.;
-    for (const auto &line : lines)
-      inhomogeneity[line.index] = line.inhomogeneity;
+    for (const auto *line : lines.own)
+      inhomogeneity[line->index] = line->inhomogeneity;
     inhomogeneity.compress(VectorOperation::insert);
     LA::Vector rhs(load);
     stiffness_matrix->vmult(rhs, inhomogeneity);
     rhs.sadd(-1., 1., load);
-    for (const auto &line : lines)
-      for (const auto &[j, w] : line.entries)
-        rhs[j] += w * rhs[line.index];
-    rhs.compress(VectorOperation::add);
-    for (const auto &line : lines)
-      rhs[line.index] = line.inhomogeneity;
+    {
+      std::vector<types::global_dof_index> indices;
+      std::vector<double>                  values;
+      for (const auto *line : lines.own_with_entries)
+        for (const auto &[j, w] : line->entries)
+          {
+            indices.push_back(j);
+            values.push_back(w * rhs[line->index]);
+          }
+      rhs.add(indices, values);
+      rhs.compress(VectorOperation::add);
+    }
+    for (const auto *line : lines.own)
+      rhs[line->index] = line->inhomogeneity;
     rhs.compress(VectorOperation::insert);
-
-    for (const auto &line : lines)
-      solution[line.index] = line.inhomogeneity;
+    for (const auto *line : lines.own)
+      solution[line->index] = line->inhomogeneity;
     solution.compress(VectorOperation::insert);
 
     const ConstrainedOperator op(*stiffness_matrix, lines);

@@ -31,29 +31,43 @@ main(int argc, char **argv)
 {
   using namespace Signorini;
   const std::vector<std::string> args(argv + 1, argv + argc);
+  // serially or under mpirun (deal.II's thread pool on every rank)
+  Utilities::MPI::MPI_InitFinalize mpi(argc,
+                                       argv,
+                                       numbers::invalid_unsigned_int);
+  const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  // Under MPI, every rank meets the same errors (all input is replicated);
+  // rank 0 reports, and an abort keeps an error on one rank from leaving
+  // the others waiting.
+  const auto fail = [&](const std::string &message, const int code) {
+    if (root)
+      std::cerr << "signorini: error: " << message << std::endl;
+    if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+      MPI_Abort(MPI_COMM_WORLD, code);
+    return code;
+  };
   try
     {
-      Utilities::MPI::MPI_InitFinalize mpi(argc,
-                                           argv,
-                                           numbers::invalid_unsigned_int);
-
       ParameterHandler prm;
       SignoriniProblem<2>::declare_parameters(prm);
 
       if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h"))
         {
-          print_usage(std::cout);
+          if (root)
+            print_usage(std::cout);
           return 0;
         }
       if (args.size() == 1 && args[0] == "--print-parameters")
         {
-          prm.print_parameters(std::cout, ParameterHandler::PRM);
+          if (root)
+            prm.print_parameters(std::cout, ParameterHandler::PRM);
           return 0;
         }
       const bool validate_only = (args.size() == 2 && args[0] == "--validate");
       if (!(validate_only || (args.size() == 1 && args[0][0] != '-')))
         {
-          print_usage(std::cerr);
+          if (root)
+            print_usage(std::cerr);
           return 1;
         }
       const std::string filename = args.back();
@@ -64,29 +78,25 @@ main(int argc, char **argv)
       if (validate_only)
         {
           problem.validate();
-          std::cout << filename << ": valid" << std::endl;
+          if (root)
+            std::cout << filename << ": valid" << std::endl;
           return 0;
         }
       problem.run();
     }
   catch (const InputError &exc)
     {
-      std::cerr << "signorini: error: " << exc.what() << std::endl;
-      return 1;
+      return fail(exc.what(), 1);
     }
   catch (const ExceptionBase &exc)
     {
       std::ostringstream text;
       exc.print_info(text);
-      std::cerr << "signorini: error: " << one_line_message(text.str())
-                << std::endl;
-      return 2;
+      return fail(one_line_message(text.str()), 2);
     }
   catch (const std::exception &exc)
     {
-      std::cerr << "signorini: error: " << one_line_message(exc.what())
-                << std::endl;
-      return 2;
+      return fail(one_line_message(exc.what()), 2);
     }
   return 0;
 }

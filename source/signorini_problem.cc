@@ -1,3 +1,4 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 
@@ -7,6 +8,7 @@
 #include <deal.II/fe/fe_values.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
 
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -109,10 +111,16 @@ namespace Signorini
   SignoriniProblem<dim>::SignoriniProblem(ParameterHandler  &prm,
                                           const std::string &input_directory)
     : prm(prm)
+    , mpi_communicator(MPI_COMM_WORLD)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+    , triangulation(MPI_COMM_WORLD,
+                    Triangulation<dim>::none,
+                    /*allow_artificial_cells=*/false,
+                    parallel::shared::Triangulation<dim>::partition_metis)
     , fe(FE_SimplexP<dim>(1), dim)
     , mapping(FE_SimplexP<dim>(1))
     , scalar_fe(1)
-    , timer(std::cout, TimerOutput::never, TimerOutput::wall_times)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
   {
     output_directory = prm.get("Output directory");
     n_cycles         = prm.get_integer("Number of cycles");
@@ -194,6 +202,8 @@ namespace Signorini
     TimerOutput::Scope t(timer, "setup");
     dof_handler.reinit(triangulation);
     dof_handler.distribute_dofs(fe);
+    locally_owned_dofs = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
     scalar_dof_handler.reinit(triangulation);
     scalar_dof_handler.distribute_dofs(scalar_fe);
 
@@ -239,16 +249,21 @@ namespace Signorini
                             hanging_node_constraints);
     contact_condition->reinit(contact_boundary);
 
-    const IndexSet         owned = dof_handler.locally_owned_dofs();
-    DynamicSparsityPattern dsp(dof_handler.n_dofs());
+    // rows of the owned cells' dofs, sent to their owners
+    DynamicSparsityPattern dsp(locally_relevant_dofs);
     DoFTools::make_sparsity_pattern(dof_handler,
                                     dsp,
                                     constraints,
                                     /*keep_constrained_dofs=*/true);
-    stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
-    condensed_stiffness.reinit(owned, owned, dsp, MPI_COMM_WORLD);
-    load.reinit(owned, MPI_COMM_WORLD);
-    solution.reinit(owned, MPI_COMM_WORLD);
+    SparsityTools::distribute_sparsity_pattern(dsp,
+                                               locally_owned_dofs,
+                                               mpi_communicator,
+                                               locally_relevant_dofs);
+    const IndexSet &owned = locally_owned_dofs;
+    stiffness.reinit(owned, owned, dsp, mpi_communicator);
+    condensed_stiffness.reinit(owned, owned, dsp, mpi_communicator);
+    load.reinit(owned, mpi_communicator);
+    solution.reinit(owned, mpi_communicator);
   }
 
 
@@ -286,6 +301,8 @@ namespace Signorini
     load                = 0.;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
+        if (!cell->is_locally_owned())
+          continue;
         fe_values.reinit(cell);
         cell_matrix = 0.;
         cell_rhs    = 0.;
@@ -395,8 +412,9 @@ namespace Signorini
     for (const double f : nodal_forces)
       contact_force += f;
 
-    std::vector<Point<dim>> support_points(dof_handler.n_dofs());
-    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support_points);
+    // (P1: the support point of a dof is its vertex; every rank sees all
+    // cells)
+    std::vector<Point<dim>>   support_points(dof_handler.n_dofs());
     std::vector<unsigned int> dof_component(dof_handler.n_dofs());
     {
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
@@ -404,7 +422,11 @@ namespace Signorini
         {
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < dofs.size(); ++i)
-            dof_component[dofs[i]] = fe.system_to_component_index(i).first;
+            {
+              const auto [component, vertex] = fe.system_to_component_index(i);
+              dof_component[dofs[i]]         = component;
+              support_points[dofs[i]]        = cell->vertex(vertex);
+            }
         }
     }
     const SolutionChecks checks = check_solution(problem,
@@ -415,24 +437,24 @@ namespace Signorini
                                                  dof_component);
     const double         energy = problem.energy(solution);
 
-    std::cout << "   " << contact_condition->name() << " condition, "
-              << contact_solver->name() << ": " << report.iterations
-              << " iterations, " << report.linear_solves << " linear solves ("
-              << report.linear_iterations << " CG iterations, "
-              << linear_solver.method() << ")" << std::endl
-              << "   active nodes " << n_active << " of "
-              << contact_condition->n_constraints() << ", energy "
-              << std::setprecision(10) << energy << ", contact force "
-              << std::setprecision(6) << contact_force << std::endl
-              << std::setprecision(2) << std::scientific
-              << "   checks: feasibility " << checks.feasibility
-              << ", multiplier sign " << checks.multiplier_sign
-              << ", complementarity " << checks.complementarity << ", residual "
-              << checks.residual << ", resultant " << checks.resultant
-              << std::defaultfloat << std::setprecision(6) << std::endl;
+    pcout << "   " << contact_condition->name() << " condition, "
+          << contact_solver->name() << ": " << report.iterations
+          << " iterations, " << report.linear_solves << " linear solves ("
+          << report.linear_iterations << " CG iterations, "
+          << linear_solver.method() << ")" << std::endl
+          << "   active nodes " << n_active << " of "
+          << contact_condition->n_constraints() << ", energy "
+          << std::setprecision(10) << energy << ", contact force "
+          << std::setprecision(6) << contact_force << std::endl
+          << std::setprecision(2) << std::scientific
+          << "   checks: feasibility " << checks.feasibility
+          << ", multiplier sign " << checks.multiplier_sign
+          << ", complementarity " << checks.complementarity << ", residual "
+          << checks.residual << ", resultant " << checks.resultant
+          << std::defaultfloat << std::setprecision(6) << std::endl;
     if (print_timing)
-      std::cout << "   contact solve " << solve_timer.wall_time() << " s"
-                << std::endl;
+      pcout << "   contact solve " << solve_timer.wall_time() << " s"
+            << std::endl;
 
     if (estimator.enabled())
       estimate_error(problem);
@@ -498,10 +520,10 @@ namespace Signorini
                                   dual_solution,
                                   admissible_displacement);
     estimate_seconds = estimate_timer.wall_time();
-    std::cout << "   error in constitutive relation: eps = "
-              << std::setprecision(4) << 100. * estimate.eps
-              << " % (contact term " << 100. * estimate.eps_contact
-              << " % of e^2)" << std::setprecision(6) << std::endl;
+    pcout << "   error in constitutive relation: eps = " << std::setprecision(4)
+          << 100. * estimate.eps << " % (contact term "
+          << 100. * estimate.eps_contact << " % of e^2)" << std::setprecision(6)
+          << std::endl;
   }
 
 
@@ -569,11 +591,11 @@ namespace Signorini
     adaptive_mesh.remesh(mesh_input, level_change, triangulation);
     predicted_cells = prediction.predicted_cells;
     if (size_predictor->uses_estimate())
-      std::cout << "   " << size_predictor->name() << " prediction: N* = "
-                << static_cast<unsigned long>(std::round(predicted_cells))
-                << " elements for eps* = " << std::setprecision(4)
-                << 100. * prediction.predicted_error << " %"
-                << std::setprecision(6) << std::endl;
+      pcout << "   " << size_predictor->name() << " prediction: N* = "
+            << static_cast<unsigned long>(std::round(predicted_cells))
+            << " elements for eps* = " << std::setprecision(4)
+            << 100. * prediction.predicted_error << " %" << std::setprecision(6)
+            << std::endl;
   }
 
 
@@ -622,20 +644,22 @@ namespace Signorini
   SignoriniProblem<dim>::compute_exact_error()
   {
     // ||u - u_h||_u^2 = int eps(u - u_h) : K : eps(u - u_h)
-    const QGaussSimplex<dim>                 quadrature(4);
-    FEValues<dim>                            fe_values(mapping,
+    const QGaussSimplex<dim>         quadrature(4);
+    FEValues<dim>                    fe_values(mapping,
                             fe,
                             quadrature,
                             update_gradients | update_quadrature_points |
                               update_JxW_values);
-    const FEValuesExtractors::Vector         displacement(0);
-    LA::Vector                               ghosted(solution);
+    const FEValuesExtractors::Vector displacement(0);
+    const LA::Vector ghosted = with_ghosts(solution, locally_relevant_dofs);
     std::vector<Tensor<2, dim>>              grad_h(quadrature.size());
     std::vector<std::vector<Tensor<1, dim>>> grad(
       quadrature.size(), std::vector<Tensor<1, dim>>(dim));
     double error_sq = 0., norm_sq = 0.;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
+        if (!cell->is_locally_owned())
+          continue;
         fe_values.reinit(cell);
         fe_values[displacement].get_function_gradients(ghosted, grad_h);
         exact_solution->vector_gradient_list(fe_values.get_quadrature_points(),
@@ -651,8 +675,10 @@ namespace Signorini
             norm_sq += (material.stress(ex) * ex) * fe_values.JxW(q);
           }
       }
-    std::cout << "   energy-norm error " << std::sqrt(error_sq) << " (relative "
-              << std::sqrt(error_sq / norm_sq) << ")" << std::endl;
+    error_sq = Utilities::MPI::sum(error_sq, mpi_communicator);
+    norm_sq  = Utilities::MPI::sum(norm_sq, mpi_communicator);
+    pcout << "   energy-norm error " << std::sqrt(error_sq) << " (relative "
+          << std::sqrt(error_sq / norm_sq) << ")" << std::endl;
     statistics_table.add_value("energy_error", std::sqrt(error_sq));
     statistics_table.add_value("relative_energy_error",
                                std::sqrt(error_sq / norm_sq));
@@ -686,6 +712,8 @@ namespace Signorini
     const Vector<double> lambda = contact_condition->multiplier(dual_solution);
     const Vector<double> forces =
       contact_condition->nodal_forces(dual_solution);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
 
     std::ofstream out(output_directory + "/contact-" +
                       Utilities::int_to_string(cycle, 2) + ".csv");
@@ -711,9 +739,11 @@ namespace Signorini
   SignoriniProblem<dim>::output_results(const unsigned int cycle)
   {
     TimerOutput::Scope t(timer, "output");
+    const bool root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
     write_contact_table(cycle);
     statistics_table.end_row();
-    statistics_table.write(output_directory + "/statistics.csv");
+    if (root)
+      statistics_table.write(output_directory + "/statistics.csv");
     if (!write_vtu)
       return;
 
@@ -738,28 +768,57 @@ namespace Signorini
     }
 
     const StressPostprocessor<dim> stress(material);
-    DataOut<dim>                   data_out;
+    DataOut<dim>                   data_out; // (the cells this rank owns)
     const std::vector<DataComponentInterpretation::DataComponentInterpretation>
-      vector_part(dim,
+                     vector_part(dim,
                   DataComponentInterpretation::component_is_part_of_vector);
+    const LA::Vector ghosted = with_ghosts(solution, locally_relevant_dofs);
     data_out.add_data_vector(dof_handler,
-                             solution,
+                             ghosted,
                              std::vector<std::string>(dim, "displacement"),
                              vector_part);
-    data_out.add_data_vector(dof_handler, solution, stress);
+    data_out.add_data_vector(dof_handler, ghosted, stress);
     data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
     const CellDataPostprocessor<dim> eps_E("eps_E", estimate.local);
     if (estimator.enabled())
-      data_out.add_data_vector(dof_handler, solution, eps_E);
+      data_out.add_data_vector(dof_handler, ghosted, eps_E);
     data_out.build_patches(mapping);
-    const std::string name =
-      "solution-" + Utilities::int_to_string(cycle, 2) + ".vtu";
-    std::ofstream out(output_directory + "/" + name);
-    data_out.write_vtu(out);
+    // one file serially; with N ranks a piece per rank and a .pvtu record
+    const std::string  base = "solution-" + Utilities::int_to_string(cycle, 2);
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    std::string name = base + ".vtu";
+    if (n_ranks > 1)
+      {
+        const unsigned int rank =
+          Utilities::MPI::this_mpi_process(mpi_communicator);
+        const auto piece = [&](const unsigned int r) {
+          return base + "." + Utilities::int_to_string(r, 3) + ".vtu";
+        };
+        std::ofstream out(output_directory + "/" + piece(rank));
+        data_out.write_vtu(out);
+        name = base + ".pvtu";
+        if (root)
+          {
+            std::vector<std::string> pieces;
+            for (unsigned int r = 0; r < n_ranks; ++r)
+              pieces.push_back(piece(r));
+            std::ofstream record(output_directory + "/" + name);
+            data_out.write_pvtu_record(record, pieces);
+          }
+      }
+    else
+      {
+        std::ofstream out(output_directory + "/" + name);
+        data_out.write_vtu(out);
+      }
     vtu_files.emplace_back(cycle, name);
-    std::ofstream pvd(output_directory + "/solution.pvd");
-    DataOutBase::write_pvd_record(pvd, vtu_files);
+    if (root)
+      {
+        std::ofstream pvd(output_directory + "/solution.pvd");
+        DataOutBase::write_pvd_record(pvd, vtu_files);
+      }
   }
 
 
@@ -813,38 +872,32 @@ namespace Signorini
   SignoriniProblem<dim>::compare_with_reference()
   {
     TimerOutput::Scope t(timer, "reference comparison");
-    const auto         to_vector = [](const LA::Vector &u) {
-      Vector<double> v(u.size());
-      for (const auto i : u.locally_owned_elements())
-        v[i] = u[i];
-      return v;
-    };
-    const ExactError error =
+    const ExactError   error =
       exact_error(dof_handler,
-                  to_vector(solution),
-                  estimator.enabled() ? to_vector(admissible_displacement) :
+                  replicate(solution),
+                  estimator.enabled() ? replicate(admissible_displacement) :
                                         Vector<double>(),
                   estimate.eps,
                   std::sqrt(estimate.e_squared));
     statistics_table.add_value("eps_ex", error.eps_ex);
-    std::cout << "   exact error (reference "
-              << reference->get_dof_handler().n_dofs()
-              << " DoFs): eps_ex = " << std::setprecision(4)
-              << 100. * error.eps_ex << " %";
+    pcout << "   exact error (reference "
+          << reference->get_dof_handler().n_dofs()
+          << " DoFs): eps_ex = " << std::setprecision(4) << 100. * error.eps_ex
+          << " %";
     const auto &levels = adaptive_mesh.levels();
     if (*std::max_element(levels.begin(), levels.end()) >=
         reference->adaptive_mesh.levels()[0])
-      std::cout << " (the reference is not finer than this mesh everywhere: "
-                   "eps_ex is underestimated; see Reference solution/Mesh)";
+      pcout << " (the reference is not finer than this mesh everywhere: "
+               "eps_ex is underestimated; see Reference solution/Mesh)";
     if (estimator.enabled())
       {
         statistics_table.add_value("effectivity", error.effectivity);
         statistics_table.add_value("prager_synge_ratio",
                                    error.prager_synge_ratio);
-        std::cout << ", effectivity " << error.effectivity
-                  << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
+        pcout << ", effectivity " << error.effectivity
+              << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
       }
-    std::cout << std::setprecision(6) << std::endl;
+    pcout << std::setprecision(6) << std::endl;
   }
 
 
@@ -861,7 +914,11 @@ namespace Signorini
     if (estimator.enabled())
       computation->admissible_displacement.reinit(dof_handler.n_dofs());
     // the copy has the same cells in the same order: match them by vertex
-    auto copy = computation->dof_handler.begin_active();
+    const Vector<double> u_h   = replicate(solution);
+    const Vector<double> u_hat = estimator.enabled() ?
+                                   replicate(admissible_displacement) :
+                                   Vector<double>();
+    auto                 copy  = computation->dof_handler.begin_active();
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         for (const unsigned int v : cell->vertex_indices())
@@ -869,10 +926,9 @@ namespace Signorini
             {
               const auto from               = cell->vertex_dof_index(v, c);
               const auto to                 = copy->vertex_dof_index(v, c);
-              computation->displacement[to] = solution[from];
+              computation->displacement[to] = u_h[from];
               if (estimator.enabled())
-                computation->admissible_displacement[to] =
-                  admissible_displacement[from];
+                computation->admissible_displacement[to] = u_hat[from];
             }
         ++copy;
       }
@@ -900,8 +956,8 @@ namespace Signorini
     Triangulation<dim> reference_mesh;
     reference_mesh.copy_triangulation(triangulation);
     reference_mesh.refine_global(reference_extra_levels);
-    std::cout << "Reference solution: the last mesh refined uniformly, "
-              << reference_extra_levels << " extra level(s)" << std::endl;
+    pcout << "Reference solution: the last mesh refined uniformly, "
+          << reference_extra_levels << " extra level(s)" << std::endl;
     {
       TimerOutput::Scope t(timer, "reference solution");
       reference = solve_reference(0, &reference_mesh);
@@ -917,21 +973,21 @@ namespace Signorini
                       computation.eps,
                       computation.e);
         statistics_table.set_value(k, "eps_ex", error.eps_ex);
-        std::cout << "   computation " << k
-                  << ": eps_ex = " << std::setprecision(4)
-                  << 100. * error.eps_ex << " %";
+        pcout << "   computation " << k << ": eps_ex = " << std::setprecision(4)
+              << 100. * error.eps_ex << " %";
         if (estimator.enabled())
           {
             statistics_table.set_value(k, "effectivity", error.effectivity);
             statistics_table.set_value(k,
                                        "prager_synge_ratio",
                                        error.prager_synge_ratio);
-            std::cout << ", effectivity " << error.effectivity
-                      << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
+            pcout << ", effectivity " << error.effectivity
+                  << ", ||U_ref - U^|| / e = " << error.prager_synge_ratio;
           }
-        std::cout << std::setprecision(6) << std::endl;
+        pcout << std::setprecision(6) << std::endl;
       }
-    statistics_table.write(output_directory + "/statistics.csv");
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      statistics_table.write(output_directory + "/statistics.csv");
   }
 
 
@@ -1026,14 +1082,16 @@ namespace Signorini
   void
   SignoriniProblem<dim>::run()
   {
-    std::filesystem::create_directories(output_directory);
-    {
-      std::ofstream out(output_directory + "/parameters.prm");
-      prm.print_parameters(out, ParameterHandler::PRM);
-    }
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::filesystem::create_directories(output_directory);
+        std::ofstream out(output_directory + "/parameters.prm");
+        prm.print_parameters(out, ParameterHandler::PRM);
+      }
+    MPI_Barrier(mpi_communicator);
     if (reference_extra_levels > 0 && !reference_from_final_mesh)
       {
-        std::cout << "Reference solution" << std::endl;
+        pcout << "Reference solution" << std::endl;
         TimerOutput::Scope t(timer, "reference solution");
         reference = solve_reference(mesh_input.initial_refinements + n_cycles -
                                       1 + reference_extra_levels,
@@ -1046,25 +1104,23 @@ namespace Signorini
         else
           adapt_mesh();
         setup_system();
-        std::cout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
-                  << " cells, " << dof_handler.n_dofs() << " DoFs, "
-                  << contact_boundary.n_nodes() << " nodes on GC ("
-                  << contact_condition->n_constraints() << " with a multiplier)"
-                  << std::endl;
+        pcout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
+              << " cells, " << dof_handler.n_dofs() << " DoFs, "
+              << contact_boundary.n_nodes() << " nodes on GC ("
+              << contact_condition->n_constraints() << " with a multiplier)"
+              << std::endl;
         if (size_predictor->uses_estimate())
           {
-            std::cout << "   mesh: " << triangulation.n_active_cells()
-                      << " cells";
+            pcout << "   mesh: " << triangulation.n_active_cells() << " cells";
             if (cycle > 0)
-              std::cout << " (predicted N* = "
-                        << static_cast<unsigned long>(
-                             std::round(predicted_cells))
-                        << ")";
-            std::cout << ", " << triangulation.n_used_vertices() << " nodes, "
-                      << adaptive_mesh.n_green_cells()
-                      << " green cells, minimum angle " << std::setprecision(4)
-                      << minimum_angle(triangulation) << " degrees"
-                      << std::setprecision(6) << std::endl;
+              pcout << " (predicted N* = "
+                    << static_cast<unsigned long>(std::round(predicted_cells))
+                    << ")";
+            pcout << ", " << triangulation.n_used_vertices() << " nodes, "
+                  << adaptive_mesh.n_green_cells()
+                  << " green cells, minimum angle " << std::setprecision(4)
+                  << minimum_angle(triangulation) << " degrees"
+                  << std::setprecision(6) << std::endl;
           }
         assemble_system();
         solve_contact(cycle);
@@ -1081,14 +1137,14 @@ namespace Signorini
             std::to_string(cycle) + " (outputs written)");
         if (target_reached())
           {
-            std::cout << "Target error " << 100. * size_predictor->target_error
-                      << " % reached" << std::endl;
+            pcout << "Target error " << 100. * size_predictor->target_error
+                  << " % reached" << std::endl;
             break;
           }
         if (size_predictor->target_error > 0. && cycle + 1 == n_cycles)
-          std::cout << "Target error " << 100. * size_predictor->target_error
-                    << " % not reached in " << n_cycles << " computations"
-                    << std::endl;
+          pcout << "Target error " << 100. * size_predictor->target_error
+                << " % not reached in " << n_cycles << " computations"
+                << std::endl;
       }
     if (reference_extra_levels > 0 && reference_from_final_mesh)
       compare_computations_with_final_reference();

@@ -1,6 +1,8 @@
 #ifndef signorini_signorini_problem_h
 #define signorini_signorini_problem_h
 
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 #include <deal.II/base/timer.h>
@@ -15,6 +17,8 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/vector.h>
+
+#include <deal.II/distributed/shared_tria.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/adaptation/size_predictor.h>
@@ -196,13 +200,20 @@ namespace Signorini
     AdaptiveMesh<dim>              adaptive_mesh;
     std::unique_ptr<SizePredictor> size_predictor;
     double                         predicted_cells = 0.;
-    Triangulation<dim>             triangulation;
-    const FESystem<dim>            fe;
-    const MappingFE<dim>           mapping;
-    DoFHandler<dim>                dof_handler;
-    const FE_SimplexP<dim>         scalar_fe;
+    // Every rank holds the whole mesh (parallel::shared: it accepts
+    // simplices and the flat conforming meshes of AdaptiveMesh) and owns a
+    // METIS partition of the cells and the dofs
+    MPI_Comm                             mpi_communicator;
+    ConditionalOStream                   pcout; // rank 0
+    parallel::shared::Triangulation<dim> triangulation;
+    const FESystem<dim>                  fe;
+    const MappingFE<dim>                 mapping;
+    DoFHandler<dim>                      dof_handler;
+    const FE_SimplexP<dim>               scalar_fe;
     DoFHandler<dim> scalar_dof_handler; // contact fields in the output
 
+    IndexSet locally_owned_dofs;
+    IndexSet locally_relevant_dofs;
     // Constraints: hanging nodes, Dirichlet data, and both merged (with and
     // without the Dirichlet values)
     AffineConstraints<double> hanging_node_constraints;

@@ -351,10 +351,14 @@ namespace Signorini
   Vector<double>
   ContactBoundary<dim>::normal_displacements(const LA::Vector &u) const
   {
-    Vector<double> q_n(nodes.size());
+    std::vector<types::global_dof_index> dofs;
+    for (const Node &node : nodes)
+      dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
+    const Vector<double> values = gather(u, dofs);
+    Vector<double>       q_n(nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)
-        q_n[k] += contact_direction[c] * u[nodes[k].dofs[c]];
+        q_n[k] += contact_direction[c] * values[dim * k + c];
     return q_n;
   }
 
@@ -366,9 +370,11 @@ namespace Signorini
                                           LA::Vector           &v) const
   {
     AssertDimension(forces.size(), nodes.size());
+    // (the forces are known on every rank: each adds those of its dofs)
+    const IndexSet owned = v.locally_owned_elements();
     for (unsigned int k = 0; k < nodes.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)
-        if (contact_direction[c] != 0.)
+        if (contact_direction[c] != 0. && owned.is_element(nodes[k].dofs[c]))
           v[nodes[k].dofs[c]] += forces[k] * contact_direction[c];
   }
 

@@ -160,7 +160,8 @@ namespace Signorini
     LA::Vector r(load_vector);
     stiffness_matrix.vmult(r, u);
     r.sadd(-1., 1., load_vector);
-    hanging_node_constraints.condense(r);
+    if (hanging_node_constraints.n_constraints() > 0)
+      hanging_node_constraints.condense(r);
     return r;
   }
 
@@ -173,12 +174,17 @@ namespace Signorini
     const LA::Vector        &u) const
   {
     // rho = nu . (F - K u) at the nodes; K u + B^T y = F gives W^T y = rho
-    const LA::Vector r  = residual(u);
-    const auto      &nu = contact_boundary.direction();
-    Vector<double>   rho(contact_boundary.n_nodes());
+    const LA::Vector                     r  = residual(u);
+    const auto                          &nu = contact_boundary.direction();
+    std::vector<types::global_dof_index> dofs;
+    for (unsigned int k = 0; k < contact_boundary.n_nodes(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        dofs.push_back(contact_boundary.node(k).dofs[c]);
+    const Vector<double> r_contact = gather(r, dofs);
+    Vector<double>       rho(contact_boundary.n_nodes());
     for (unsigned int k = 0; k < rho.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)
-        rho[k] += nu[c] * r[contact_boundary.node(k).dofs[c]];
+        rho[k] += nu[c] * r_contact[dim * k + c];
     // F - K u = B^T y = N^T W^T y, so rho = W^T y
     return contact_condition.dual_from_residual(active, rho);
   }

@@ -1,3 +1,5 @@
+#include <deal.II/base/mpi.h>
+
 #include <signorini/contact/solution_checks.h>
 
 namespace Signorini
@@ -69,6 +71,18 @@ namespace Signorini
         const unsigned int c = dof_component[i];
         force[c] += f;
         moment += (c == 0 ? -x[1] * f : x[0] * f);
+      }
+    // (each rank summed over the dofs it owns)
+    const MPI_Comm comm = u.get_mpi_communicator();
+    applied_scale       = Utilities::MPI::max(applied_scale, comm);
+    checks.residual     = Utilities::MPI::max(checks.residual, comm);
+    load_sum            = Utilities::MPI::sum(load_sum, comm);
+    force               = Utilities::MPI::sum(force, comm);
+    moment              = Utilities::MPI::sum(moment, comm);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        lower[d] = Utilities::MPI::min(lower[d], comm);
+        upper[d] = Utilities::MPI::max(upper[d], comm);
       }
     checks.residual /= std::max(applied_scale, 1e-300);
     const double diameter = (upper - lower).norm();

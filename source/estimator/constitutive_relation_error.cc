@@ -1,4 +1,7 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/dofs/dof_tools.h>
 
 #include <deal.II/fe/fe_values.h>
 
@@ -91,14 +94,16 @@ namespace Signorini
     admissible_displacement = u_h;
     if (integral)
       {
-        const Vector<double> q_n = boundary.normal_displacements(u_h);
+        const Vector<double> q_n   = boundary.normal_displacements(u_h);
+        const IndexSet       owned = u_h.locally_owned_elements();
         for (const unsigned int k : multiplier_nodes)
           {
             const double excess = q_n[k] - boundary.nodal_gap()[k];
             if (excess > 0.)
               for (unsigned int c = 0; c < dim; ++c)
-                admissible_displacement[boundary.node(k).dofs[c]] -=
-                  excess * boundary.direction()[c];
+                if (owned.is_element(boundary.node(k).dofs[c]))
+                  admissible_displacement[boundary.node(k).dofs[c]] -=
+                    excess * boundary.direction()[c];
           }
         admissible_displacement.compress(VectorOperation::add);
       }
@@ -118,7 +123,13 @@ namespace Signorini
         problem.solve_with_normal_forces(forces, equilibrated);
       }
 
-    // sigma^ and the volume terms
+    // sigma^ and the volume terms, on the cells of this rank (which read
+    // the dofs of the cells around them)
+    IndexSet relevant;
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    const LA::Vector ghosted_equilibrated = with_ghosts(equilibrated, relevant);
+    const LA::Vector ghosted_admissible =
+      with_ghosts(admissible_displacement, relevant);
     Vector<double>                error_squared, sum_squared;
     const EquilibrationInput<dim> input{mapping,
                                         dof_handler,
@@ -126,9 +137,9 @@ namespace Signorini
                                         boundary_conditions,
                                         boundary,
                                         normal_reaction,
-                                        equilibrated};
+                                        ghosted_equilibrated};
     reconstruction->compute(input,
-                            admissible_displacement,
+                            ghosted_admissible,
                             error_squared,
                             sum_squared);
     result.equilibrium_defect  = reconstruction->equilibrium_defect();
@@ -149,13 +160,13 @@ namespace Signorini
         std::vector<Tensor<1, dim>>      w_hat(face_quadrature.size());
         for (const auto &cell : dof_handler.active_cell_iterators())
           for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary() &&
+            if (cell->is_locally_owned() && cell->face(f)->at_boundary() &&
                 boundary.boundary_ids().count(cell->face(f)->boundary_id()) !=
                   0)
               {
                 fe_face_values.reinit(cell, f);
                 fe_face_values[displacement].get_function_values(
-                  admissible_displacement, w_hat);
+                  ghosted_admissible, w_hat);
                 const Point<dim> a      = cell->face(f)->vertex(0);
                 const double     r0     = normal_reaction[boundary.node_index(
                   cell->face(f)->vertex_index(0))];
@@ -176,6 +187,13 @@ namespace Signorini
               }
       }
 
+    // every rank filled the entries of its cells: complete them
+    const MPI_Comm communicator =
+      dof_handler.get_triangulation().get_communicator();
+    if (Utilities::MPI::n_mpi_processes(communicator) > 1)
+      for (Vector<double> *local :
+           {&error_squared, &sum_squared, &result.contact_local})
+        Utilities::MPI::sum(*local, communicator, *local);
     result.contact_term = std::accumulate(result.contact_local.begin(),
                                           result.contact_local.end(),
                                           0.);

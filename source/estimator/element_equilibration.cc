@@ -1,3 +1,4 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/work_stream.h>
@@ -12,6 +13,7 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <signorini/estimator/element_equilibration.h>
+#include <signorini/input_error.h>
 
 #include <array>
 #include <atomic>
@@ -396,7 +398,27 @@ namespace Signorini
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
 
-    const unsigned int n_cells = triangulation.n_active_cells();
+    const unsigned int n_cells      = triangulation.n_active_cells();
+    const MPI_Comm     communicator = triangulation.get_communicator();
+    if (optimise_densities && Utilities::MPI::n_mpi_processes(communicator) > 1)
+      throw InputError("Error estimator/Traction densities = minimised runs "
+                       "on one MPI rank only (its free parameters form one "
+                       "global system); use least squares");
+
+    // Under MPI every rank holds the whole mesh and treats the cells it
+    // owns; their local problems need the densities at their vertices, so
+    // the patches of these vertices, so the cells around them ("needed").
+    std::vector<bool> vertex_of_owned_cell(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          vertex_of_owned_cell[cell->vertex_index(v)] = true;
+    std::vector<bool> needed(n_cells, false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (vertex_of_owned_cell[cell->vertex_index(v)])
+          needed[cell->active_cell_index()] = true;
+
     error_squared.reinit(n_cells);
     sum_squared.reinit(n_cells);
     max_equilibrium_defect  = 0.;
@@ -462,10 +484,12 @@ namespace Signorini
       dof_handler,
       [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
           CellScratch                                          &scratch) {
-        const unsigned int E             = cell->active_cell_index();
-        FEValues<dim>     &fe_values     = scratch.fe_values;
-        auto              &strain_values = scratch.strain_values;
-        auto              &force         = scratch.force;
+        const unsigned int E = cell->active_cell_index();
+        if (!needed[E])
+          return;
+        FEValues<dim> &fe_values     = scratch.fe_values;
+        auto          &strain_values = scratch.strain_values;
+        auto          &force         = scratch.force;
         fe_values.reinit(cell);
         fe_values[displacement].get_function_symmetric_gradients(
           input.equilibrated_displacement, strain_values);
@@ -505,6 +529,8 @@ namespace Signorini
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         const unsigned int E = cell->active_cell_index();
+        if (!needed[E])
+          continue;
         for (const unsigned int f : cell->face_indices())
           {
             const auto face = cell->face(f);
@@ -588,15 +614,16 @@ namespace Signorini
     std::vector<std::vector<unsigned int>> cells_of_vertex(
       triangulation.n_vertices());
     for (unsigned int E = 0; E < n_cells; ++E)
-      for (unsigned int v = 0; v < 3; ++v)
-        cells_of_vertex[cell_vertices[E][v]].push_back(E);
+      if (needed[E])
+        for (unsigned int v = 0; v < 3; ++v)
+          cells_of_vertex[cell_vertices[E][v]].push_back(E);
 
     // Each vertex writes only the projections b_G(i) at its own end of its
     // edges, so the patches are independent (run in parallel below).
     std::mutex patch_mutex;
     const auto process_patch = [&](const unsigned int vertex) {
       const auto &patch = cells_of_vertex[vertex];
-      if (patch.empty())
+      if (patch.empty() || !vertex_of_owned_cell[vertex])
         return;
       double                     patch_defect = 0.;
       std::vector<FreeDirection> patch_directions;
@@ -757,6 +784,9 @@ namespace Signorini
     for (const auto &q_cell : Q)
       for (const auto &q_vertex : q_cell)
         q_scale = std::max(q_scale, q_vertex.norm());
+    q_scale = Utilities::MPI::max(q_scale, communicator);
+    max_prolongation_defect =
+      Utilities::MPI::max(max_prolongation_defect, communicator);
     if (q_scale > 0.)
       max_prolongation_defect /= q_scale;
 
@@ -1027,6 +1057,8 @@ namespace Signorini
     const auto element_error =
       [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
           NoScratch &) {
+        if (!cell->is_locally_owned())
+          return;
         const unsigned int E = cell->active_cell_index();
         const Geometry     g = geometry(cell);
         // ||sigma^ -/+ K eps(U^)||^2 = (v -/+ u^)^T K_E (v -/+ u^)
@@ -1041,6 +1073,8 @@ namespace Signorini
         sum_squared[E]   = stiffness.matrix_norm_square(plus);
       };
     for_each_cell(dof_handler, element_error, NoScratch());
+    max_equilibrium_defect =
+      Utilities::MPI::max(max_equilibrium_defect, communicator);
   }
 
   template class ElementEquilibration<2>;

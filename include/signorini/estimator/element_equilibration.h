@@ -38,8 +38,8 @@ namespace Signorini
      * global, sparse, symmetric positive semi-definite system solved by CG);
      * the equilibrium and prolongation conditions hold either way.
      */
-    explicit ElementEquilibration(const unsigned int local_degree       = 3,
-                                  const bool         optimise_densities = false);
+    explicit ElementEquilibration(const unsigned int local_degree = 3,
+                                  const bool optimise_densities   = false);
 
     std::string
     name() const override;
