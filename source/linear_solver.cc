@@ -49,17 +49,21 @@ namespace Signorini
     {
     public:
       ConstrainedOperator(const LA::SparseMatrix &matrix,
-                          const DistributedLines &lines)
+                          const DistributedLines &lines,
+                          const LA::Vector       &layout)
         : matrix(matrix)
         , lines(lines)
-      {}
+      {
+        if (!lines.coupled.is_empty())
+          ghosted = with_ghosts(layout, lines.coupled);
+      }
 
       void
       vmult(LA::Vector &dst, const LA::Vector &src) const
       {
         const bool coupling = !lines.coupled.is_empty();
         if (coupling)
-          ghosted = with_ghosts(src, lines.coupled);
+          ghosted = src; // import the coupled entries
         distributed.reinit(src, /*omit_zeroing_entries=*/true);
         distributed = src;
         for (const auto *line : lines.own)
@@ -220,14 +224,29 @@ namespace Signorini
     std::vector<bool> eliminated(condensed_matrix->n(), false);
     for (const auto dof : eliminated_dofs)
       eliminated[dof] = true;
-    const auto [first, last] = condensed_matrix->local_range();
-    for (auto row = first; row < last; ++row)
-      for (auto entry = condensed_matrix->begin(row);
-           entry != condensed_matrix->end(row);
-           ++entry)
-        if (entry->column() != row &&
-            (eliminated[row] || eliminated[entry->column()]))
-          modified_matrix.set(row, entry->column(), 0.);
+    // (Epetra's row views: deal.II's row iterators copy each row)
+    const Epetra_CrsMatrix &source = condensed_matrix->trilinos_matrix();
+    std::vector<types::global_dof_index> columns;
+    std::vector<double>                  zeros;
+    for (int local_row = 0; local_row < source.NumMyRows(); ++local_row)
+      {
+        const types::global_dof_index row = source.GRID(local_row);
+        int                           n_entries;
+        double                       *values;
+        int                          *local_columns;
+        source.ExtractMyRowView(local_row, n_entries, values, local_columns);
+        columns.clear();
+        for (int k = 0; k < n_entries; ++k)
+          {
+            const types::global_dof_index column =
+              source.ColMap().GID(local_columns[k]);
+            if (column != row && (eliminated[row] || eliminated[column]))
+              columns.push_back(column);
+          }
+        zeros.assign(columns.size(), 0.);
+        if (!columns.empty())
+          modified_matrix.set(row, columns, zeros);
+      }
     modified_matrix.compress(VectorOperation::insert);
     build_preconditioner(modified_matrix);
   }
@@ -311,7 +330,7 @@ namespace Signorini
       solution[line->index] = line->inhomogeneity;
     solution.compress(VectorOperation::insert);
 
-    const ConstrainedOperator op(*stiffness_matrix, lines);
+    const ConstrainedOperator op(*stiffness_matrix, lines, load);
     const double  tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
     SolverControl control(max_iterations, tol * rhs.l2_norm(), false, false);
     SolverCG<LA::Vector> cg(control);
