@@ -38,6 +38,26 @@ namespace Signorini
             own_with_entries.push_back(line);
       }
 
+      /// v_j += w v_i for the lines x_i = sum_j w x_j of this rank (the
+      /// transpose of the constraints; the masters j may belong to other
+      /// ranks: add, then exchange)
+      void
+      add_to_masters(LA::Vector &v) const
+      {
+        if (coupled.is_empty())
+          return;
+        std::vector<types::global_dof_index> indices;
+        std::vector<double>                  values;
+        for (const auto *line : own_with_entries)
+          for (const auto &[j, w] : line->entries)
+            {
+              indices.push_back(j);
+              values.push_back(w * v[line->index]);
+            }
+        v.add(indices, values);
+        v.compress(VectorOperation::add);
+      }
+
       using Line = AffineConstraints<double>::ConstraintLine;
       std::vector<const Line *> own;
       std::vector<const Line *> own_with_entries;
@@ -61,8 +81,7 @@ namespace Signorini
       void
       vmult(LA::Vector &dst, const LA::Vector &src) const
       {
-        const bool coupling = !lines.coupled.is_empty();
-        if (coupling)
+        if (!lines.coupled.is_empty())
           ghosted = src; // import the coupled entries
         distributed.reinit(src, /*omit_zeroing_entries=*/true);
         distributed = src;
@@ -75,20 +94,7 @@ namespace Signorini
           }
         distributed.compress(VectorOperation::insert);
         matrix.vmult(dst, distributed);
-        if (coupling)
-          {
-            // (the masters may belong to other ranks: add, then exchange)
-            std::vector<types::global_dof_index> indices;
-            std::vector<double>                  values;
-            for (const auto *line : lines.own_with_entries)
-              for (const auto &[j, w] : line->entries)
-                {
-                  indices.push_back(j);
-                  values.push_back(w * dst[line->index]);
-                }
-            dst.add(indices, values);
-            dst.compress(VectorOperation::add);
-          }
+        lines.add_to_masters(dst);
         for (const auto *line : lines.own)
           dst[line->index] = src[line->index];
         dst.compress(VectorOperation::insert);
@@ -311,18 +317,7 @@ namespace Signorini
     LA::Vector rhs(load);
     stiffness_matrix->vmult(rhs, inhomogeneity);
     rhs.sadd(-1., 1., load);
-    {
-      std::vector<types::global_dof_index> indices;
-      std::vector<double>                  values;
-      for (const auto *line : lines.own_with_entries)
-        for (const auto &[j, w] : line->entries)
-          {
-            indices.push_back(j);
-            values.push_back(w * rhs[line->index]);
-          }
-      rhs.add(indices, values);
-      rhs.compress(VectorOperation::add);
-    }
+    lines.add_to_masters(rhs);
     for (const auto *line : lines.own)
       rhs[line->index] = line->inhomogeneity;
     rhs.compress(VectorOperation::insert);

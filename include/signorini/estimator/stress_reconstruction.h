@@ -57,10 +57,13 @@ namespace Signorini
     name() const = 0;
 
     /**
-     * Build sigma^ and return, for every active cell (by active cell index),
+     * Build sigma^ and return, for every active cell this rank owns (by
+     * active cell index; zero for the others),
      * ||sigma^ - K eps(U^)||^2_{sigma,E} in @p error_squared and
      * ||sigma^ + K eps(U^)||^2_{sigma,E} in @p sum_squared, U^ being
-     * @p admissible_displacement.
+     * @p admissible_displacement. Under MPI the displacements carry the
+     * ghost entries of the locally relevant dofs; the defects below are
+     * maxima over all ranks.
      */
     virtual void
     compute(const EquilibrationInput<dim> &input,
