@@ -708,11 +708,11 @@ namespace Signorini
     for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
       row_of_node[multiplier_nodes[i]] = i;
 
-    const Vector<double> q_n = contact_boundary.normal_displacements(solution);
+    const Vector<double> q_n    = contact_boundary.normal_components(solution);
     const Vector<double> lambda = contact_condition->multiplier(dual_solution);
     const Vector<double> forces =
       contact_condition->nodal_forces(dual_solution);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+    if (!pcout.is_active())
       return;
 
     std::ofstream out(output_directory + "/contact-" +
@@ -739,7 +739,7 @@ namespace Signorini
   SignoriniProblem<dim>::output_results(const unsigned int cycle)
   {
     TimerOutput::Scope t(timer, "output");
-    const bool root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
+    const bool         root = pcout.is_active();
     write_contact_table(cycle);
     statistics_table.end_row();
     if (root)
@@ -986,7 +986,7 @@ namespace Signorini
           }
         pcout << std::setprecision(6) << std::endl;
       }
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    if (pcout.is_active())
       statistics_table.write(output_directory + "/statistics.csv");
   }
 
@@ -1082,7 +1082,7 @@ namespace Signorini
   void
   SignoriniProblem<dim>::run()
   {
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    if (pcout.is_active())
       {
         std::filesystem::create_directories(output_directory);
         std::ofstream out(output_directory + "/parameters.prm");

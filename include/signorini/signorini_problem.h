@@ -203,8 +203,9 @@ namespace Signorini
     // Every rank holds the whole mesh (parallel::shared: it accepts
     // simplices and the flat conforming meshes of AdaptiveMesh) and owns a
     // METIS partition of the cells and the dofs
-    MPI_Comm                             mpi_communicator;
-    ConditionalOStream                   pcout; // rank 0
+    MPI_Comm mpi_communicator;
+    ConditionalOStream
+      pcout; // active on rank 0, which also writes the CSV files
     parallel::shared::Triangulation<dim> triangulation;
     const FESystem<dim>                  fe;
     const MappingFE<dim>                 mapping;

@@ -349,17 +349,17 @@ namespace Signorini
 
   template <int dim>
   Vector<double>
-  ContactBoundary<dim>::normal_displacements(const LA::Vector &u) const
+  ContactBoundary<dim>::normal_components(const LA::Vector &v) const
   {
     std::vector<types::global_dof_index> dofs;
     for (const Node &node : nodes)
       dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
-    const Vector<double> values = gather(u, dofs);
-    Vector<double>       q_n(nodes.size());
+    const Vector<double> values = gather(v, dofs);
+    Vector<double>       normal(nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)
-        q_n[k] += contact_direction[c] * values[dim * k + c];
-    return q_n;
+        normal[k] += contact_direction[c] * values[dim * k + c];
+    return normal;
   }
 
 

@@ -38,7 +38,7 @@ namespace Signorini
   DiscreteContactProblem<dim>::constraint_values(const LA::Vector &u) const
   {
     return contact_condition.constraint_values(
-      contact_boundary.normal_displacements(u));
+      contact_boundary.normal_components(u));
   }
 
 
@@ -174,17 +174,7 @@ namespace Signorini
     const LA::Vector        &u) const
   {
     // rho = nu . (F - K u) at the nodes; K u + B^T y = F gives W^T y = rho
-    const LA::Vector                     r  = residual(u);
-    const auto                          &nu = contact_boundary.direction();
-    std::vector<types::global_dof_index> dofs;
-    for (unsigned int k = 0; k < contact_boundary.n_nodes(); ++k)
-      for (unsigned int c = 0; c < dim; ++c)
-        dofs.push_back(contact_boundary.node(k).dofs[c]);
-    const Vector<double> r_contact = gather(r, dofs);
-    Vector<double>       rho(contact_boundary.n_nodes());
-    for (unsigned int k = 0; k < rho.size(); ++k)
-      for (unsigned int c = 0; c < dim; ++c)
-        rho[k] += nu[c] * r_contact[dim * k + c];
+    const Vector<double> rho = contact_boundary.normal_components(residual(u));
     // F - K u = B^T y = N^T W^T y, so rho = W^T y
     return contact_condition.dual_from_residual(active, rho);
   }

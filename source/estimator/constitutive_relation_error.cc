@@ -94,7 +94,7 @@ namespace Signorini
     admissible_displacement = u_h;
     if (integral)
       {
-        const Vector<double> q_n   = boundary.normal_displacements(u_h);
+        const Vector<double> q_n   = boundary.normal_components(u_h);
         const IndexSet       owned = u_h.locally_owned_elements();
         for (const unsigned int k : multiplier_nodes)
           {

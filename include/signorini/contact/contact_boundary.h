@@ -103,9 +103,10 @@ namespace Signorini
     double
     gap(const Point<dim> &x) const;
 
-    /// q_N: u(x_k) . nu_c for every node.
+    /// v(x_k) . nu_c for every node of a nodal vector v (with v = U_h: the
+    /// normal displacements q_N), on every rank.
     Vector<double>
-    normal_displacements(const LA::Vector &displacement) const;
+    normal_components(const LA::Vector &v) const;
 
     /// v += sum_k forces_k nu_c at the dofs of node k.
     void
