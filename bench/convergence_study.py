@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """The paper's Figure 3 for our block: eps (estimate) and eps_ex (exact error
 against a reference two levels finer than the finest mesh) under uniform
-refinement, for both contact conditions, against the number of elements in
-contact (elements with an edge on the contact zone GC).
+refinement, for both contact conditions and both stress reconstructions
+(star patch, the default, and the paper's element equilibration), against
+the number of elements in contact (elements with an edge on the contact
+zone GC).
 
 Writes doc/convergence-study.csv and, if matplotlib is available,
 doc/convergence-study.png, and prints the fitted log-log slopes.
@@ -16,6 +18,7 @@ import os
 import subprocess
 import tempfile
 
+RECONSTRUCTIONS = ("star patch", "element equilibration")
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
@@ -35,7 +38,8 @@ def main():
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     args = parser.parse_args()
     rows = []
-    for condition in ("integral", "pointwise"):
+    for condition, reconstruction in [(c, r) for c in ("integral", "pointwise")
+                                      for r in RECONSTRUCTIONS]:
         with tempfile.TemporaryDirectory() as work:
             prm = os.path.join(work, "study.prm")
             with open(os.path.join(ROOT, "prm", "block.prm")) as f:
@@ -45,6 +49,9 @@ set Output directory = {work}/out
 set Number of cycles = {args.meshes}
 subsection Contact
   set Condition = {condition}
+end
+subsection Error estimator
+  set Stress reconstruction = {reconstruction}
 end
 subsection Reference solution
   set Extra refinements = 2
@@ -59,7 +66,8 @@ end
                            check=True, stdout=subprocess.DEVNULL)
             with open(os.path.join(work, "out", "statistics.csv")) as f:
                 for r in csv.DictReader(f):
-                    rows.append({k: r[k] for k in (
+                    rows.append({"reconstruction": reconstruction})
+                    rows[-1].update({k: r[k] for k in (
                         "condition", "cells", "dofs", "contact_cells",
                         "active_nodes", "eps", "eps_ex", "effectivity",
                         "eps_contact", "prager_synge_ratio")})
@@ -72,11 +80,17 @@ end
 
     fits = {}
     for condition in ("integral", "pointwise"):
-        rs = [r for r in rows if r["condition"] == condition]
-        n = [float(r["contact_cells"]) for r in rs]
-        for key in ("eps", "eps_ex"):
-            fits[(condition, key)] = slope(n, [float(r[key]) for r in rs])
-            print(f"{condition:9s} {key:6s} slope {fits[(condition, key)]:.2f}")
+        for reconstruction in RECONSTRUCTIONS:
+            rs = [r for r in rows if r["condition"] == condition
+                  and r["reconstruction"] == reconstruction]
+            n = [float(r["contact_cells"]) for r in rs]
+            for key in ("eps", "eps_ex"):
+                fits[(condition, reconstruction, key)] = slope(
+                    n, [float(r[key]) for r in rs])
+                print(f"{condition:9s} {reconstruction:21s} {key:6s} slope "
+                      f"{fits[(condition, reconstruction, key)]:.2f}")
+            print(f"{condition:9s} {reconstruction:21s} effectivity " +
+                  ", ".join(f"{float(r['effectivity']):.2f}" for r in rs))
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -84,21 +98,26 @@ end
     except ImportError:
         print("matplotlib not available: no plot")
         return
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, ax = plt.subplots(figsize=(6.5, 5))
     styles = {"integral": "o", "pointwise": "s"}
     for condition in ("integral", "pointwise"):
-        rs = [r for r in rows if r["condition"] == condition]
-        n = [float(r["contact_cells"]) for r in rs]
-        for key, line in (("eps", "-"), ("eps_ex", "--")):
-            label = (f"{condition}: {'eps (estimate)' if key == 'eps' else 'eps_ex (exact)'}"
-                     f", slope {fits[(condition, key)]:.2f}")
-            ax.loglog(n, [100 * float(r[key]) for r in rs], line + styles[condition],
-                      label=label)
+        for reconstruction, line in zip(RECONSTRUCTIONS, ("-", "-.")):
+            rs = [r for r in rows if r["condition"] == condition
+                  and r["reconstruction"] == reconstruction]
+            n = [float(r["contact_cells"]) for r in rs]
+            ax.loglog(n, [100 * float(r["eps"]) for r in rs],
+                      line + styles[condition], fillstyle="none",
+                      label=f"{condition}: eps, {reconstruction}, slope "
+                      f"{fits[(condition, reconstruction, 'eps')]:.2f}")
+        ax.loglog(n, [100 * float(r["eps_ex"]) for r in rs],
+                  "--" + styles[condition],
+                  label=f"{condition}: eps_ex (exact), slope "
+                  f"{fits[(condition, RECONSTRUCTIONS[0], 'eps_ex')]:.2f}")
     ax.set_xlabel("elements in contact (edge on GC)")
     ax.set_ylabel("relative error (%)")
     ax.set_title("Block: estimated and exact error, uniform refinement")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     out_png = os.path.join(ROOT, "doc", "convergence-study.png")
     fig.savefig(out_png, dpi=120)

@@ -6,12 +6,14 @@ the Release executable in separate processes and prints, per mesh: DoFs, the
 time of one linear elasticity solve (the contact zone removed; preconditioner
 setup + solve at the default tolerance), and for both contact conditions the
 time of the whole estimate (admissible fields, the extra solve of the
-pointwise condition when some Lambda_i > 0, element equilibration, eps_E)
+pointwise condition when some Lambda_i > 0, the stress reconstruction
+chosen by --reconstruction, eps_E)
 with its ratio to that solve. The contact solve of the measured mesh starts
 from the active set of the once coarser mesh (two cycles); only the last
 cycle is reported. Medians over --repeat runs.
 
 Usage: bench/estimator_bench.py [--min-level 4] [--max-level 7] [--repeat 3]
+                               [--reconstruction "star patch"]
 """
 import argparse
 import csv
@@ -47,9 +49,12 @@ def main():
     parser.add_argument("--max-level", type=int, default=7)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--reconstruction", default="star patch",
+                        choices=["star patch", "element equilibration"])
     args = parser.parse_args()
     exe = os.path.join(args.build, "signorini")
 
+    print(f"Stress reconstruction: {args.reconstruction}\n")
     print("| level | DoFs | linear solve (s) | integral: estimate (s) | ratio "
           "| pointwise: estimate (s) | ratio |")
     print("|---|---|---|---|---|---|---|")
@@ -83,6 +88,9 @@ subsection Mesh
 end
 subsection Contact
   set Condition = {condition}
+end
+subsection Error estimator
+  set Stress reconstruction = {args.reconstruction}
 end
 """, work)
                     times.append(float(row["estimate_seconds"]))

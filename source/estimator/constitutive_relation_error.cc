@@ -7,6 +7,7 @@
 
 #include <signorini/estimator/constitutive_relation_error.h>
 #include <signorini/estimator/element_equilibration.h>
+#include <signorini/estimator/star_patch_equilibration.h>
 
 #include <numeric>
 
@@ -22,18 +23,19 @@ namespace Signorini
       "true",
       Patterns::Bool(),
       "Compute the error in constitutive relation (eps, eps_E).");
-    prm.declare_entry("Local degree",
-                      "3",
-                      Patterns::Integer(2, 6),
-                      "Polynomial degree p + k of the local problems of the "
-                      "element equilibration (p = 1).");
-    prm.declare_entry("Traction densities",
-                      "least squares",
-                      Patterns::Selection("least squares|minimised"),
-                      "Choice of the free parameters of the equilibrated "
-                      "traction densities: 'least squares' towards the "
-                      "averaged FE tractions (classical EET) or 'minimised' "
-                      "error measure (one extra sparse global solve).");
+    prm.declare_entry("Stress reconstruction",
+                      "star patch",
+                      Patterns::Selection("star patch|element equilibration"),
+                      "Construction of sigma^: 'star patch' (flux-free "
+                      "vertex-patch problems; effectivity 1.2-1.9 on the "
+                      "block) or 'element equilibration' (the paper's EET; "
+                      "2-3.5), see doc/estimator.md.");
+    prm.enter_subsection("Star patch");
+    StarPatchEquilibration<dim>::declare_parameters(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Element equilibration");
+    ElementEquilibration<dim>::declare_parameters(prm);
+    prm.leave_subsection();
     prm.leave_subsection();
   }
 
@@ -44,10 +46,15 @@ namespace Signorini
   ConstitutiveRelationError<dim>::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Error estimator");
-    is_enabled     = prm.get_bool("Enable");
-    reconstruction = std::make_unique<ElementEquilibration<dim>>(
-      prm.get_integer("Local degree"),
-      prm.get("Traction densities") == "minimised");
+    is_enabled               = prm.get_bool("Enable");
+    const std::string choice = prm.get("Stress reconstruction");
+    prm.enter_subsection(choice == "star patch" ? "Star patch" :
+                                                  "Element equilibration");
+    if (choice == "star patch")
+      reconstruction = std::make_unique<StarPatchEquilibration<dim>>(prm);
+    else
+      reconstruction = std::make_unique<ElementEquilibration<dim>>(prm);
+    prm.leave_subsection();
     prm.leave_subsection();
   }
 

@@ -13,6 +13,7 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <signorini/estimator/element_equilibration.h>
+#include <signorini/estimator/local_loops.h>
 #include <signorini/input_error.h>
 
 #include <array>
@@ -280,45 +281,6 @@ namespace Signorini
       std::vector<double>              body_weights;
     };
 
-    /**
-     * WorkStream::run over the active cells without a copier, for workers
-     * that write only their own cell's entries. deal.II 9.4 aborts the
-     * program on an exception in a worker: the first one is kept and
-     * rethrown here, so that it reaches the caller's error handling.
-     */
-    template <int dim, typename Scratch, typename Worker>
-    void
-    for_each_cell(const DoFHandler<dim> &dof_handler,
-                  const Worker          &worker,
-                  const Scratch         &scratch)
-    {
-      using Iterator = typename DoFHandler<dim>::active_cell_iterator;
-      struct NoCopy
-      {};
-      std::exception_ptr error;
-      std::mutex         error_mutex;
-      WorkStream::run(
-        dof_handler.begin_active(),
-        Iterator(dof_handler.end()),
-        [&](const Iterator &cell, Scratch &scratch_data, NoCopy &) {
-          try
-            {
-              worker(cell, scratch_data);
-            }
-          catch (...)
-            {
-              std::lock_guard<std::mutex> lock(error_mutex);
-              if (!error)
-                error = std::current_exception();
-            }
-        },
-        [](const NoCopy &) {},
-        scratch,
-        NoCopy());
-      if (error)
-        std::rethrow_exception(error);
-    }
-
     enum class FaceKind
     {
       interior,
@@ -344,11 +306,29 @@ namespace Signorini
 
 
   template <int dim>
-  ElementEquilibration<dim>::ElementEquilibration(
-    const unsigned int local_degree,
-    const bool         optimise_densities)
-    : local_degree(local_degree)
-    , optimise_densities(optimise_densities)
+  void
+  ElementEquilibration<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Local degree",
+                      "3",
+                      Patterns::Integer(2, 6),
+                      "Polynomial degree p + k of the element problems "
+                      "(p = 1; the paper's k = 2 or 3).");
+    prm.declare_entry("Traction densities",
+                      "least squares",
+                      Patterns::Selection("least squares|minimised"),
+                      "Choice of the free parameters of the equilibrated "
+                      "traction densities: 'least squares' towards the "
+                      "averaged FE tractions (classical EET) or 'minimised' "
+                      "error measure (one extra sparse global solve).");
+  }
+
+
+
+  template <int dim>
+  ElementEquilibration<dim>::ElementEquilibration(ParameterHandler &prm)
+    : local_degree(prm.get_integer("Local degree"))
+    , optimise_densities(prm.get("Traction densities") == "minimised")
   {}
 
 
@@ -401,23 +381,17 @@ namespace Signorini
     const unsigned int n_cells      = triangulation.n_active_cells();
     const MPI_Comm     communicator = triangulation.get_communicator();
     if (optimise_densities && Utilities::MPI::n_mpi_processes(communicator) > 1)
-      throw InputError("Error estimator/Traction densities = minimised runs "
+      throw InputError("Error estimator/Element equilibration/Traction "
+                       "densities = minimised runs "
                        "on one MPI rank only (its free parameters form one "
                        "global system); use least squares");
 
     // Under MPI every rank holds the whole mesh and treats the cells it
     // owns; their local problems need the densities at their vertices, so
     // the patches of these vertices, so the cells around them ("needed").
-    std::vector<bool> vertex_of_owned_cell(triangulation.n_vertices(), false);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned())
-        for (const unsigned int v : cell->vertex_indices())
-          vertex_of_owned_cell[cell->vertex_index(v)] = true;
-    std::vector<bool> needed(n_cells, false);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        if (vertex_of_owned_cell[cell->vertex_index(v)])
-          needed[cell->active_cell_index()] = true;
+    std::vector<bool>       vertex_of_owned_cell;
+    const std::vector<bool> needed =
+      cells_around_owned_cells(triangulation, vertex_of_owned_cell);
 
     error_squared.reinit(n_cells);
     sum_squared.reinit(n_cells);

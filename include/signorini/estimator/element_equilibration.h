@@ -31,15 +31,19 @@ namespace Signorini
   class ElementEquilibration : public StressReconstruction<dim>
   {
   public:
+    /// "Local degree" and "Traction densities", in the current subsection
+    static void
+    declare_parameters(ParameterHandler &prm);
+
     /**
-     * With @p optimise_densities the free parameters of the patch systems
-     * are not chosen by least squares towards the averaged FE tractions but
-     * so as to minimise sum_E ||sigma^ - K eps(U^)||^2_E over all of them (one
-     * global, sparse, symmetric positive semi-definite system solved by CG);
-     * the equilibrium and prolongation conditions hold either way.
+     * With "Traction densities = minimised" the free parameters of the
+     * patch systems are not chosen by least squares towards the averaged FE
+     * tractions but so as to minimise sum_E ||sigma^ - K eps(U^)||^2_E over
+     * all of them (one global, sparse, symmetric positive semi-definite
+     * system solved by CG); the equilibrium and prolongation conditions hold
+     * either way.
      */
-    explicit ElementEquilibration(const unsigned int local_degree = 3,
-                                  const bool optimise_densities   = false);
+    explicit ElementEquilibration(ParameterHandler &prm);
 
     std::string
     name() const override;

@@ -1,0 +1,79 @@
+#ifndef signorini_estimator_star_patch_equilibration_h
+#define signorini_estimator_star_patch_equilibration_h
+
+#include <signorini/estimator/stress_reconstruction.h>
+
+namespace Signorini
+{
+  /**
+   * The star-patch (flux-free) construction of sigma^ (Cottereau, Diez and
+   * Huerta 2009; Pares, Diez and Huerta 2006; called SPET by Pled, Chamoin
+   * and Ladeveze 2011) for P1 triangles. With R(v) = int f_d . v +
+   * int_G2 F_d . v + int_GC R^ . v - int sigma_h : eps(v) the residual of
+   * the finite element solution (zero on the finite element space: sigma_h
+   * is in FE equilibrium with the loads), one Neumann problem per vertex
+   * patch (star) omega_i:
+   *
+   *   find z_i in V_i:  int_{omega_i} K eps(z_i) : eps(v)
+   *                       = R(phi_i (v - Pi_h v))   for all v in V_i,
+   *
+   * V_i the continuous piecewise polynomials of degree "Local degree" on
+   * omega_i (zero on the Dirichlet part), Pi_h the P1 interpolant. Its data
+   * vanish on rigid motions (they are P1), so the problem is solvable
+   * without the traction densities of the element equilibration; and since
+   * the phi_i are a partition of unity,
+   *
+   *   sigma^ = sigma_h + sum_i K eps(z_i)
+   *
+   * satisfies int sigma^ : eps(v) = int f_d . v + int_G2 F_d . v +
+   * int_GC R^ . v for all v of the global space of that degree (exactly
+   * statically admissible when the local problems are solved exactly). The
+   * tractions of sigma^ on the element edges are polynomials of degree
+   * p + k - 1 instead of the linear densities of the EET, which is what
+   * brings the effectivity closer to one (doc/estimator.md).
+   *
+   * V_i uses a hierarchical basis (vertex functions lambda_a, edge
+   * functions lambda_a lambda_b (lambda_b - lambda_a)^m oriented by the
+   * global vertex numbers, interior bubbles): the P1 interpolant of its
+   * higher-order functions is zero and that of a vertex function is itself,
+   * so the data are R(phi_i psi) on the higher-order functions and zero on
+   * the vertex functions.
+   */
+  template <int dim>
+  class StarPatchEquilibration : public StressReconstruction<dim>
+  {
+  public:
+    /// "Local degree", in the current subsection
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    explicit StarPatchEquilibration(ParameterHandler &prm);
+
+    std::string
+    name() const override;
+
+    void
+    compute(const EquilibrationInput<dim> &input,
+            const LA::Vector              &admissible_displacement,
+            Vector<double>                &error_squared,
+            Vector<double>                &sum_squared) override;
+
+    /// Largest relative residual of the local Neumann problems without
+    /// their regularisation of the rigid motions, i.e. how well their data
+    /// are in equilibrium (round-off if correct).
+    double
+    equilibrium_defect() const override;
+
+    /// Largest relative R(phi_i e_c) over the vertices: the finite element
+    /// equilibrium the construction relies on (round-off if correct).
+    double
+    prolongation_defect() const override;
+
+  private:
+    unsigned int local_degree;
+    double       max_equilibrium_defect = 0.;
+    double       max_galerkin_defect    = 0.;
+  };
+} // namespace Signorini
+
+#endif
