@@ -6,7 +6,6 @@
 #include <deal.II/fe/fe.h>
 
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <signorini/estimator/local_loops.h>
 #include <signorini/estimator/star_patch_equilibration.h>
@@ -137,6 +136,45 @@ namespace Signorini
     private:
       std::vector<Function> functions;
     };
+
+    /**
+     * Solve A x = b in place (@p b becomes x) for a small symmetric positive
+     * definite A, overwritten by its Cholesky factor. Written out because
+     * the patch systems are tiny (tens of unknowns) and solved by the
+     * hundred thousand on the worker threads.
+     */
+    void
+    cholesky_solve(FullMatrix<double> &A, Vector<double> &b)
+    {
+      const unsigned int n = A.m();
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          double d = A(j, j);
+          for (unsigned int k = 0; k < j; ++k)
+            d -= A(j, k) * A(j, k);
+          AssertThrow(d > 0., ExcMessage("patch matrix not positive definite"));
+          A(j, j) = std::sqrt(d);
+          for (unsigned int i = j + 1; i < n; ++i)
+            {
+              double v = A(i, j);
+              for (unsigned int k = 0; k < j; ++k)
+                v -= A(i, k) * A(j, k);
+              A(i, j) = v / A(j, j);
+            }
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          for (unsigned int k = 0; k < i; ++k)
+            b[i] -= A(i, k) * b[k];
+          b[i] /= A(i, i);
+        }
+      for (unsigned int i = n; i-- > 0;)
+        {
+          for (unsigned int k = i + 1; k < n; ++k)
+            b[i] -= A(k, i) * b[k];
+          b[i] /= A(i, i);
+        }
+    }
 
     /// reference barycentric coordinates of a point of the unit triangle
     Barycentric
@@ -483,42 +521,46 @@ namespace Signorini
         for (unsigned int v = 0; v < 3; ++v)
           cells_of_vertex[cells[E].vertices[v]].push_back(E);
 
-    // the local stiffness matrix of a cell, dofs (i, c) -> 2 i + c
+    // the local stiffness matrix of a cell, dofs (i, c) -> 2 i + c:
+    // K = sum_ab M^cc'_ab G[a][b] with M^cc'_ab = det sum_de A^cc'_de
+    // d_d lambda_a d_e lambda_b (the basis' barycentric derivatives
+    // combined once per cell instead of per quadrature point)
     const auto cell_stiffness = [&](const CellData &data) {
-      std::array<FullMatrix<double>, 4> H; // int d_d psi_i d_e psi_j
-      for (unsigned int d = 0; d < 2; ++d)
-        for (unsigned int e = 0; e < 2; ++e)
-          {
-            FullMatrix<double> &h = H[2 * d + e];
-            h.reinit(n, n);
-            for (unsigned int a = 0; a < 3; ++a)
-              for (unsigned int b = 0; b < 3; ++b)
-                h.add(data.det * data.grad_lambda[a][d] *
-                        data.grad_lambda[b][e],
-                      G[a][b]);
-          }
-      std::vector<double> sign(n);
-      for (unsigned int i = 0; i < n; ++i)
-        sign[i] = basis.sign(i, data.reversed);
+      double M[2][2][3][3] = {};
+      for (unsigned int c = 0; c < 2; ++c)
+        for (unsigned int c2 = 0; c2 < 2; ++c2)
+          for (unsigned int a = 0; a < 3; ++a)
+            for (unsigned int b = 0; b < 3; ++b)
+              for (unsigned int d = 0; d < 2; ++d)
+                for (unsigned int e = 0; e < 2; ++e)
+                  M[c][c2][a][b] += data.det * A[c][c2][d][e] *
+                                    data.grad_lambda[a][d] *
+                                    data.grad_lambda[b][e];
       FullMatrix<double> K(2 * n, 2 * n);
       for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < n; ++j)
-          for (unsigned int c = 0; c < 2; ++c)
-            for (unsigned int c2 = 0; c2 < 2; ++c2)
-              {
-                double value = 0.;
-                for (unsigned int d = 0; d < 2; ++d)
-                  for (unsigned int e = 0; e < 2; ++e)
-                    value += A[c][c2][d][e] * H[2 * d + e](i, j);
-                K(2 * i + c, 2 * j + c2) = sign[i] * sign[j] * value;
-              }
+        for (unsigned int j = i; j < n; ++j)
+          {
+            const double sign =
+              basis.sign(i, data.reversed) * basis.sign(j, data.reversed);
+            for (unsigned int c = 0; c < 2; ++c)
+              for (unsigned int c2 = 0; c2 < 2; ++c2)
+                {
+                  double value = 0.;
+                  for (unsigned int a = 0; a < 3; ++a)
+                    for (unsigned int b = 0; b < 3; ++b)
+                      value += M[c][c2][a][b] * G[a][b](i, j);
+                  K(2 * i + c, 2 * j + c2) = K(2 * j + c2, 2 * i + c) =
+                    sign * value;
+                }
+          }
       return K;
     };
 
     // z_i restricted to a cell, for each of its three vertices i, in the
     // cell's basis (dofs 2 f + c)
-    std::vector<std::array<Vector<double>, 3>> z(n_cells);
-    std::mutex                                 defect_mutex;
+    const unsigned int  n_z = 2 * n; // per cell and vertex
+    std::vector<double> z(static_cast<std::size_t>(n_cells) * 3 * n_z);
+    std::mutex          defect_mutex;
 
     // --- the patch problems --------------------------------------------------
     const auto process_patch = [&](const unsigned int vertex) {
@@ -688,11 +730,10 @@ namespace Signorini
       for (unsigned int i = 0; i < N; ++i)
         if (!fixed[i])
           free.push_back(i);
-      const unsigned int       n_free = free.size();
-      LAPACKFullMatrix<double> system(n_free, n_free);
-      FullMatrix<double>       K_free(n_free, n_free);
-      Vector<double>           rhs(n_free);
-      double                   diagonal = 0.;
+      const unsigned int n_free = free.size();
+      FullMatrix<double> K_free(n_free, n_free);
+      Vector<double>     rhs(n_free);
+      double             diagonal = 0.;
       for (unsigned int i = 0; i < n_free; ++i)
         {
           rhs[i] = load[free[i]];
@@ -700,25 +741,31 @@ namespace Signorini
             K_free(i, j) = K(free[i], free[j]);
           diagonal += K_free(i, i) / n_free;
         }
-      FullMatrix<double> regularised(K_free);
-      const auto         eigen = eigenvectors(constraint_gram);
-      for (const auto &[value, direction] : eigen)
-        if (value <= 1e-10 * std::max(1., trace(constraint_gram)))
-          {
-            Vector<double> r(n_free);
-            for (unsigned int i = 0; i < n_free; ++i)
-              for (unsigned int a = 0; a < 3; ++a)
-                r[i] += direction[a] * rigid[a][free[i]];
-            const double weight = diagonal / (r * r);
-            for (unsigned int i = 0; i < n_free; ++i)
-              for (unsigned int j = 0; j < n_free; ++j)
-                regularised(i, j) += weight * r[i] * r[j];
-          }
-      system = regularised;
-      system.set_property(LAPACKSupport::symmetric);
-      system.compute_cholesky_factorization();
+      FullMatrix<double> factor(K_free);
+      // (no Dirichlet part: all three motions; else those the constraints
+      // leave, from the kernel of their Gram matrix)
+      std::vector<Tensor<1, 3>> free_motions;
+      if (trace(constraint_gram) == 0.)
+        free_motions = {Tensor<1, 3>({1., 0., 0.}),
+                        Tensor<1, 3>({0., 1., 0.}),
+                        Tensor<1, 3>({0., 0., 1.})};
+      else
+        for (const auto &[value, direction] : eigenvectors(constraint_gram))
+          if (value <= 1e-10 * trace(constraint_gram))
+            free_motions.push_back(direction);
+      for (const auto &direction : free_motions)
+        {
+          Vector<double> r(n_free);
+          for (unsigned int i = 0; i < n_free; ++i)
+            for (unsigned int a = 0; a < 3; ++a)
+              r[i] += direction[a] * rigid[a][free[i]];
+          const double weight = diagonal / (r * r);
+          for (unsigned int i = 0; i < n_free; ++i)
+            for (unsigned int j = 0; j < n_free; ++j)
+              factor(i, j) += weight * r[i] * r[j];
+        }
       Vector<double> solution(rhs);
-      system.solve(solution);
+      cholesky_solve(factor, solution);
 
       // residual of the unregularised problem: the data's equilibrium
       Vector<double> residual(n_free);
@@ -735,8 +782,7 @@ namespace Signorini
           const unsigned int E    = patch[p];
           const CellData    &data = cells[E];
           const unsigned int v    = data.local_vertex(vertex);
-          Vector<double>    &z_E  = z[E][v];
-          z_E.reinit(2 * n);
+          double *z_E = &z[(static_cast<std::size_t>(E) * 3 + v) * n_z];
           for (unsigned int f = 0; f < n; ++f)
             for (unsigned int c = 0; c < 2; ++c)
               z_E[2 * f + c] = z_patch[2 * index[p][f] + c];
@@ -776,9 +822,10 @@ namespace Signorini
         const unsigned int       E    = cell->active_cell_index();
         const CellData          &data = cells[E];
         const FullMatrix<double> K_E  = cell_stiffness(data);
-        Vector<double>           correction(2 * n);
+        Vector<double>           correction(n_z);
         for (unsigned int v = 0; v < 3; ++v)
-          correction += z[E][v];
+          for (unsigned int i = 0; i < n_z; ++i)
+            correction[i] += z[(static_cast<std::size_t>(E) * 3 + v) * n_z + i];
         Vector<double> minus(correction), plus(correction);
         for (unsigned int v = 0; v < 3; ++v)
           for (unsigned int c = 0; c < 2; ++c)
