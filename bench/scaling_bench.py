@@ -4,8 +4,10 @@
 Runs the paper's block refined --level times (level 7: 1.58 million DoFs),
 integral condition, active set solver, one computation with the error
 estimate, on 1 rank and on 2 ranks (`mpirun -np 2`), one thread per rank
-(DEAL_II_NUM_THREADS=1, so that the figures measure the distribution over
-ranks, not deal.II's threads). Prints the wall time of each phase (rank 0's
+(DEAL_II_NUM_THREADS=1 and OPENBLAS_NUM_THREADS=1, so that the figures
+measure the distribution over ranks, not deal.II's or OpenBLAS's threads:
+Epetra's vector operations call the BLAS, whose threads would give the
+one-rank run the second core). Prints the wall time of each phase (rank 0's
 TimerOutput sections; the phases end in collective operations) as medians
 over --repeat runs, the speed-up and the parallel efficiency
 speed-up / ranks, and checks that both runs found the same result.
@@ -43,7 +45,8 @@ end
     command = [exe, prm]
     if ranks > 1:
         command = ["mpirun", "-np", str(ranks)] + command
-    env = dict(os.environ, DEAL_II_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+    env = dict(os.environ, DEAL_II_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
+               OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     out = subprocess.run(command, check=True, capture_output=True, text=True,
                          env=env).stdout

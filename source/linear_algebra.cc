@@ -2,28 +2,8 @@
 
 #include <signorini/linear_algebra.h>
 
-#include <dlfcn.h>
-
 namespace Signorini
 {
-  namespace
-  {
-    /**
-     * The small dense factorisations of the estimator's local problems run
-     * on deal.II's worker threads (and one process per core under MPI);
-     * OpenBLAS's own threads would oversubscribe the cores (the star-patch
-     * estimator ran 10x slower on two cores). Set once when the library is
-     * loaded, if the BLAS is OpenBLAS (looked up, not linked).
-     */
-    const bool single_threaded_blas = []() {
-      using SetThreads = void (*)(int);
-      if (const auto set_threads = reinterpret_cast<SetThreads>(
-            dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-        set_threads(1);
-      return true;
-    }();
-  } // namespace
-
   dealii::Vector<double>
   gather(const LA::Vector                                   &v,
          const std::vector<dealii::types::global_dof_index> &indices)
