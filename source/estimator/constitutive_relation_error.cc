@@ -27,9 +27,9 @@ namespace Signorini
                       "star patch",
                       Patterns::Selection("star patch|element equilibration"),
                       "Construction of sigma^: 'star patch' (flux-free "
-                      "vertex-patch problems; effectivity 1.2-1.9 on the "
+                      "vertex-patch problems; effectivity 1.25-1.7 on the "
                       "block) or 'element equilibration' (the paper's EET; "
-                      "2-3.5), see doc/estimator.md.");
+                      "2.6-3.5), see doc/estimator.md.");
     prm.enter_subsection("Star patch");
     StarPatchEquilibration<dim>::declare_parameters(prm);
     prm.leave_subsection();

@@ -32,7 +32,8 @@ namespace Signorini
    *   Lambda_i > 0, sigma_h is no longer in equilibrium with R^ and one more
    *   elasticity problem with the loads (f_d, F_d, R^) gives the stress
    *   sigma~_h that is equilibrated instead;
-   * - sigma^ from a StressReconstruction (element equilibration).
+   * - sigma^ from a StressReconstruction (star patch by default, or the
+   *   paper's element equilibration).
    *
    * Then, per element E and with D = ||sigma^ + K eps(U^)||^2 + 2 int R^_n
    * (W^_n - g):

@@ -44,8 +44,8 @@ namespace Signorini
   /**
    * Construction of a statically admissible stress field sigma^ from a finite
    * element solution (spec section 4). The interface the error estimator
-   * uses; the element equilibration technique is one implementation, a
-   * strictly admissible variant can be another.
+   * uses, implemented by the star-patch construction and by the element
+   * equilibration technique; a strictly admissible variant can be another.
    */
   template <int dim>
   class StressReconstruction
@@ -71,12 +71,15 @@ namespace Signorini
             Vector<double>                &error_squared,
             Vector<double>                &sum_squared) = 0;
 
-    /// Largest relative defect of the element equilibrium of the data of
-    /// the local problems (resultant and moment): round-off if correct.
+    /// Largest relative defect of the equilibrium of the data of the local
+    /// problems (EET: resultant and moment of the element data; star patch:
+    /// residual of the patch problems): round-off if correct.
     virtual double
     equilibrium_defect() const = 0;
 
-    /// Largest relative defect of the prolongation condition.
+    /// Largest relative defect of the condition the construction rests on
+    /// (EET: the prolongation condition; star patch: the FE equilibrium
+    /// R(phi_i) = 0). Reported as `prolongation_defect`.
     virtual double
     prolongation_defect() const = 0;
   };
