@@ -133,5 +133,38 @@ namespace Signorini
     return ids;
   }
 
+  namespace
+  {
+    /// the last of @p parts naming @p id, or nullptr
+    template <typename Part>
+    const Part *
+    part_naming(const std::vector<Part> &parts, const types::boundary_id id)
+    {
+      const Part *found = nullptr;
+      for (const auto &part : parts)
+        if (part.ids.count(id) != 0)
+          found = &part;
+      return found;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  const typename BoundaryConditions<dim>::DirichletPart *
+  BoundaryConditions<dim>::dirichlet_part(const types::boundary_id id) const
+  {
+    return part_naming(dirichlet, id);
+  }
+
+
+
+  template <int dim>
+  const typename BoundaryConditions<dim>::TractionPart *
+  BoundaryConditions<dim>::traction_part(const types::boundary_id id) const
+  {
+    return part_naming(tractions, id);
+  }
+
   template class BoundaryConditions<2>;
 } // namespace Signorini

@@ -52,6 +52,14 @@ namespace Signorini
     std::set<types::boundary_id>
     used_boundary_ids() const;
 
+    /// The Dirichlet part naming boundary @p id, or nullptr.
+    const DirichletPart *
+    dirichlet_part(const types::boundary_id id) const;
+
+    /// The traction part naming boundary @p id, or nullptr.
+    const TractionPart *
+    traction_part(const types::boundary_id id) const;
+
     std::vector<DirichletPart>                      dirichlet;
     std::vector<TractionPart>                       tractions;
     std::unique_ptr<Functions::ParsedFunction<dim>> body_force;

@@ -19,7 +19,6 @@
 #include <array>
 #include <atomic>
 #include <exception>
-#include <map>
 #include <mutex>
 #include <tuple>
 
@@ -343,24 +342,6 @@ namespace Signorini
 
 
   template <int dim>
-  double
-  ElementEquilibration<dim>::equilibrium_defect() const
-  {
-    return max_equilibrium_defect;
-  }
-
-
-
-  template <int dim>
-  double
-  ElementEquilibration<dim>::prolongation_defect() const
-  {
-    return max_prolongation_defect;
-  }
-
-
-
-  template <int dim>
   void
   ElementEquilibration<dim>::compute(const EquilibrationInput<dim> &input,
                                      const LA::Vector &admissible_displacement,
@@ -395,8 +376,8 @@ namespace Signorini
 
     error_squared.reinit(n_cells);
     sum_squared.reinit(n_cells);
-    max_equilibrium_defect  = 0.;
-    max_prolongation_defect = 0.;
+    this->max_equilibrium_defect  = 0.;
+    this->max_prolongation_defect = 0.;
 
     // --- 1. per cell: sigma_h, strain of U^, Q_E(i) --------------------
     const QGaussSimplex<dim>         quadrature(3); // as in the assembly
@@ -421,19 +402,7 @@ namespace Signorini
     std::vector<std::array<unsigned int, 3>>   cell_faces(n_cells);
 
     std::vector<FaceData> faces(triangulation.n_raw_faces());
-    std::map<types::boundary_id,
-             const typename BoundaryConditions<dim>::DirichletPart *>
-      dirichlet_of_id;
-    for (const auto &part : bc.dirichlet)
-      for (const auto id : part.ids)
-        dirichlet_of_id[id] = &part;
-    std::map<types::boundary_id,
-             const typename BoundaryConditions<dim>::TractionPart *>
-      traction_of_id;
-    for (const auto &part : bc.tractions)
-      for (const auto id : part.ids)
-        traction_of_id[id] = &part;
-    const Tensor<1, dim> nu_c = input.contact_boundary.direction();
+    const Tensor<1, dim>  nu_c = input.contact_boundary.direction();
 
     // the cell quantities, cells in parallel (each writes its own entries)
     struct CellScratch
@@ -530,9 +499,9 @@ namespace Signorini
             data.kind              = FaceKind::loaded;
             data.unknown_component = {{false, false}};
             const auto id          = face->boundary_id();
-            if (dirichlet_of_id.count(id) != 0)
+            if (const auto dirichlet = bc.dirichlet_part(id))
               for (unsigned int c = 0; c < dim; ++c)
-                if (dirichlet_of_id[id]->mask[c])
+                if (dirichlet->mask[c])
                   {
                     data.kind                 = FaceKind::dirichlet;
                     data.unknown_component[c] = true;
@@ -543,12 +512,12 @@ namespace Signorini
               for (const unsigned int w : cell->vertex_indices())
                 if (cell->vertex_index(w) == data.vertices[k])
                   local_vertex[k] = w;
-            if (traction_of_id.count(id) != 0)
+            if (const auto part = bc.traction_part(id))
               {
                 fe_face_values.reinit(cell, f);
                 std::vector<Vector<double>> traction(face_quadrature.size(),
                                                      Vector<double>(dim));
-                traction_of_id[id]->traction->vector_value_list(
+                part->traction->vector_value_list(
                   fe_face_values.get_quadrature_points(), traction);
                 for (unsigned int k = 0; k < 2; ++k)
                   for (unsigned int c = 0; c < dim; ++c)
@@ -733,7 +702,8 @@ namespace Signorini
           patch_defect = std::max(patch_defect, check.linfty_norm());
         }
       std::lock_guard<std::mutex> lock(patch_mutex);
-      max_prolongation_defect = std::max(max_prolongation_defect, patch_defect);
+      this->max_prolongation_defect =
+        std::max(this->max_prolongation_defect, patch_defect);
       free_directions.insert(free_directions.end(),
                              patch_directions.begin(),
                              patch_directions.end());
@@ -759,10 +729,10 @@ namespace Signorini
       for (const auto &q_vertex : q_cell)
         q_scale = std::max(q_scale, q_vertex.norm());
     q_scale = Utilities::MPI::max(q_scale, communicator);
-    max_prolongation_defect =
-      Utilities::MPI::max(max_prolongation_defect, communicator);
+    this->max_prolongation_defect =
+      Utilities::MPI::max(this->max_prolongation_defect, communicator);
     if (q_scale > 0.)
-      max_prolongation_defect /= q_scale;
+      this->max_prolongation_defect /= q_scale;
 
     // --- 3. linear densities from the two projections of each edge --------
     // [b0, b1] = L/6 [[2, 1], [1, 2]] [F0, F1]
@@ -920,8 +890,8 @@ namespace Signorini
         }
       std::lock_guard<std::mutex> lock(defect_mutex);
       if (data_scale > 0.)
-        max_equilibrium_defect =
-          std::max({max_equilibrium_defect,
+        this->max_equilibrium_defect =
+          std::max({this->max_equilibrium_defect,
                     resultant.norm() / data_scale,
                     std::abs(moment) / (data_scale * g.h)});
       return load;
@@ -1047,8 +1017,8 @@ namespace Signorini
         sum_squared[E]   = stiffness.matrix_norm_square(plus);
       };
     for_each_cell(dof_handler, element_error, NoScratch());
-    max_equilibrium_defect =
-      Utilities::MPI::max(max_equilibrium_defect, communicator);
+    this->max_equilibrium_defect =
+      Utilities::MPI::max(this->max_equilibrium_defect, communicator);
   }
 
   template class ElementEquilibration<2>;

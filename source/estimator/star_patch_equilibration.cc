@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <mutex>
 
 namespace Signorini
@@ -252,24 +251,6 @@ namespace Signorini
 
 
   template <int dim>
-  double
-  StarPatchEquilibration<dim>::equilibrium_defect() const
-  {
-    return max_equilibrium_defect;
-  }
-
-
-
-  template <int dim>
-  double
-  StarPatchEquilibration<dim>::prolongation_defect() const
-  {
-    return max_galerkin_defect;
-  }
-
-
-
-  template <int dim>
   void
   StarPatchEquilibration<dim>::compute(
     const EquilibrationInput<dim> &input,
@@ -299,8 +280,8 @@ namespace Signorini
 
     error_squared.reinit(n_cells);
     sum_squared.reinit(n_cells);
-    max_equilibrium_defect = 0.;
-    max_galerkin_defect    = 0.;
+    this->max_equilibrium_defect  = 0.;
+    this->max_prolongation_defect = 0.;
 
     // --- reference tables ---------------------------------------------------
     const HierarchicalBasis           basis(local_degree);
@@ -460,14 +441,6 @@ namespace Signorini
       CellScratch());
 
     // --- boundary edges: Dirichlet masks and loads F_d + R^ ------------------
-    std::map<types::boundary_id, ComponentMask> dirichlet_mask;
-    for (const auto &part : bc.dirichlet)
-      for (const auto id : part.ids)
-        dirichlet_mask[id] = part.mask;
-    std::map<types::boundary_id, const Function<dim> *> traction_of_id;
-    for (const auto &part : bc.tractions)
-      for (const auto id : part.ids)
-        traction_of_id[id] = part.traction.get();
     const auto          &contact = input.contact_boundary;
     const Tensor<1, dim> nu_c    = contact.direction();
 
@@ -486,10 +459,11 @@ namespace Signorini
             edge.length       = face->measure();
             edge.first_vertex = face->vertex_index(0);
             const auto id     = face->boundary_id();
-            if (dirichlet_mask.count(id) != 0)
+            if (const auto dirichlet = bc.dirichlet_part(id))
               for (unsigned int c = 0; c < 2; ++c)
-                edge.fixed[c] = dirichlet_mask[id][c];
-            const bool loaded     = traction_of_id.count(id) != 0;
+                edge.fixed[c] = dirichlet->mask[c];
+            const auto traction   = bc.traction_part(id);
+            const bool loaded     = traction != nullptr;
             const bool in_contact = contact.boundary_ids().count(id) != 0;
             if (!loaded && !in_contact)
               continue;
@@ -501,7 +475,7 @@ namespace Signorini
                 if (loaded)
                   for (unsigned int c = 0; c < 2; ++c)
                     edge.load[q][c] +=
-                      traction_of_id[id]->value(a + s * (b - a), c);
+                      traction->traction->value(a + s * (b - a), c);
                 if (in_contact)
                   {
                     // R^ = R^_n nu_c, linear on the edge
@@ -521,7 +495,9 @@ namespace Signorini
         for (unsigned int v = 0; v < 3; ++v)
           cells_of_vertex[cells[E].vertices[v]].push_back(E);
 
-    // the local stiffness matrix of a cell, dofs (i, c) -> 2 i + c:
+    // the local stiffness matrix of a cell, dofs (i, c) -> 2 i + c (built
+    // anew by each of the cell's three patches and the final pass: a few
+    // hundred flops, cheaper than storing (2n)^2 entries per cell):
     // K = sum_ab M^cc'_ab G[a][b] with M^cc'_ab = det sum_de A^cc'_de
     // d_d lambda_a d_e lambda_b (the basis' barycentric derivatives
     // combined once per cell instead of per quadrature point)
@@ -798,8 +774,10 @@ namespace Signorini
                 std::max(galerkin_defect,
                          std::abs(galerkin[c]) / galerkin_scale[c]);
       std::lock_guard<std::mutex> lock(defect_mutex);
-      max_equilibrium_defect = std::max(max_equilibrium_defect, defect);
-      max_galerkin_defect    = std::max(max_galerkin_defect, galerkin_defect);
+      this->max_equilibrium_defect =
+        std::max(this->max_equilibrium_defect, defect);
+      this->max_prolongation_defect =
+        std::max(this->max_prolongation_defect, galerkin_defect);
     };
     parallel::apply_to_subranges(
       0u,
@@ -839,10 +817,10 @@ namespace Signorini
       },
       NoScratch());
 
-    max_equilibrium_defect =
-      Utilities::MPI::max(max_equilibrium_defect, communicator);
-    max_galerkin_defect =
-      Utilities::MPI::max(max_galerkin_defect, communicator);
+    this->max_equilibrium_defect =
+      Utilities::MPI::max(this->max_equilibrium_defect, communicator);
+    this->max_prolongation_defect =
+      Utilities::MPI::max(this->max_prolongation_defect, communicator);
   }
 
   template class StarPatchEquilibration<2>;

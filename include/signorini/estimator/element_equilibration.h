@@ -54,17 +54,9 @@ namespace Signorini
             Vector<double>                &error_squared,
             Vector<double>                &sum_squared) override;
 
-    double
-    equilibrium_defect() const override;
-
-    double
-    prolongation_defect() const override;
-
   private:
     unsigned int local_degree;
     bool         optimise_densities;
-    double       max_equilibrium_defect  = 0.;
-    double       max_prolongation_defect = 0.;
   };
 } // namespace Signorini
 

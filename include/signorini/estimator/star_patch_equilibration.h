@@ -58,21 +58,8 @@ namespace Signorini
             Vector<double>                &error_squared,
             Vector<double>                &sum_squared) override;
 
-    /// Largest relative residual of the local Neumann problems without
-    /// their regularisation of the rigid motions, i.e. how well their data
-    /// are in equilibrium (round-off if correct).
-    double
-    equilibrium_defect() const override;
-
-    /// Largest relative R(phi_i e_c) over the vertices: the finite element
-    /// equilibrium the construction relies on (round-off if correct).
-    double
-    prolongation_defect() const override;
-
   private:
     unsigned int local_degree;
-    double       max_equilibrium_defect = 0.;
-    double       max_galerkin_defect    = 0.;
   };
 } // namespace Signorini
 

@@ -62,8 +62,7 @@ namespace Signorini
      * ||sigma^ - K eps(U^)||^2_{sigma,E} in @p error_squared and
      * ||sigma^ + K eps(U^)||^2_{sigma,E} in @p sum_squared, U^ being
      * @p admissible_displacement. Under MPI the displacements carry the
-     * ghost entries of the locally relevant dofs; the defects below are
-     * maxima over all ranks.
+     * ghost entries of the locally relevant dofs.
      */
     virtual void
     compute(const EquilibrationInput<dim> &input,
@@ -73,15 +72,27 @@ namespace Signorini
 
     /// Largest relative defect of the equilibrium of the data of the local
     /// problems (EET: resultant and moment of the element data; star patch:
-    /// residual of the patch problems): round-off if correct.
-    virtual double
-    equilibrium_defect() const = 0;
+    /// residual of the patch problems) in the last compute(), over all
+    /// ranks: round-off if correct.
+    double
+    equilibrium_defect() const
+    {
+      return max_equilibrium_defect;
+    }
 
     /// Largest relative defect of the condition the construction rests on
     /// (EET: the prolongation condition; star patch: the FE equilibrium
-    /// R(phi_i) = 0). Reported as `prolongation_defect`.
-    virtual double
-    prolongation_defect() const = 0;
+    /// R(phi_i) = 0) in the last compute(), over all ranks. Reported as
+    /// `prolongation_defect`.
+    double
+    prolongation_defect() const
+    {
+      return max_prolongation_defect;
+    }
+
+  protected:
+    double max_equilibrium_defect  = 0.;
+    double max_prolongation_defect = 0.;
   };
 } // namespace Signorini
 
