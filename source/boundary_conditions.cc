@@ -1,4 +1,10 @@
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+
 #include <signorini/boundary_conditions.h>
+#include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
 namespace Signorini
@@ -77,6 +83,7 @@ namespace Signorini
           const std::string name = "Dirichlet " + std::to_string(p);
           prm.enter_subsection(name);
           DirichletPart part;
+          part.name = "Boundary conditions/" + name;
           part.ids =
             parse_boundary_ids(prm.get("Boundary ids"),
                                "Boundary conditions/" + name + "/Boundary ids");
@@ -94,6 +101,18 @@ namespace Signorini
           part.displacement =
             parse_function<dim>(prm, dim, "Boundary conditions/" + name);
           prm.leave_subsection();
+          // The solver would apply both values (the last one wins) and the
+          // estimator needs one prescribed value per component: refuse.
+          for (const auto &earlier : dirichlet)
+            for (const auto id : part.ids)
+              if (earlier.ids.count(id) != 0)
+                for (unsigned int c = 0; c < dim; ++c)
+                  if (part.mask[c] && earlier.mask[c])
+                    throw InputError(
+                      part.name + ": boundary id " + std::to_string(id) +
+                      ", component " + static_cast<char>('x' + c) +
+                      " is already prescribed by " +
+                      earlier.name.substr(earlier.name.find('/') + 1));
           if (!part.ids.empty())
             dirichlet.emplace_back(std::move(part));
         }
@@ -102,6 +121,7 @@ namespace Signorini
           const std::string name = "Traction " + std::to_string(p);
           prm.enter_subsection(name);
           TractionPart part;
+          part.name = "Boundary conditions/" + name;
           part.ids =
             parse_boundary_ids(prm.get("Boundary ids"),
                                "Boundary conditions/" + name + "/Boundary ids");
@@ -133,37 +153,111 @@ namespace Signorini
     return ids;
   }
 
-  namespace
-  {
-    /// the last of @p parts naming @p id, or nullptr
-    template <typename Part>
-    const Part *
-    part_naming(const std::vector<Part> &parts, const types::boundary_id id)
-    {
-      const Part *found = nullptr;
-      for (const auto &part : parts)
-        if (part.ids.count(id) != 0)
-          found = &part;
-      return found;
-    }
-  } // namespace
-
-
-
   template <int dim>
-  const typename BoundaryConditions<dim>::DirichletPart *
-  BoundaryConditions<dim>::dirichlet_part(const types::boundary_id id) const
+  void
+  BoundaryConditions<dim>::check_finite(
+    const Mapping<dim>       &mapping,
+    const Triangulation<dim> &triangulation,
+    const Function<dim>      *exact_solution) const
   {
-    return part_naming(dirichlet, id);
+    // the quadrature rules of the assembly; only the points are needed
+    const FE_SimplexP<dim>       fe(1);
+    const QGaussSimplex<dim>     quadrature(3);
+    const QGaussSimplex<dim - 1> face_quadrature(3);
+    FEValues<dim> fe_values(mapping, fe, quadrature, update_quadrature_points);
+    FEFaceValues<dim>       fe_face_values(mapping,
+                                     fe,
+                                     face_quadrature,
+                                     update_quadrature_points);
+    std::vector<Point<dim>> points;
+
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const types::boundary_id id = cell->face(f)->boundary_id();
+            fe_face_values.reinit(cell, f);
+            points = fe_face_values.get_quadrature_points();
+            for (const unsigned int v : cell->face(f)->vertex_indices())
+              points.push_back(cell->face(f)->vertex(v));
+            for (const auto &part : dirichlet)
+              if (part.ids.count(id) != 0)
+                Signorini::check_finite(*part.displacement,
+                                        points,
+                                        part.name,
+                                        part.mask);
+            for (const auto &part : tractions)
+              if (part.ids.count(id) != 0)
+                Signorini::check_finite(*part.traction, points, part.name);
+          }
+
+    // the vertices once, then the quadrature points of each cell
+    points.clear();
+    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+      if (triangulation.get_used_vertices()[v])
+        points.push_back(triangulation.get_vertices()[v]);
+    Signorini::check_finite(*body_force,
+                            points,
+                            "Boundary conditions/Body force");
+    if (exact_solution != nullptr)
+      Signorini::check_finite(*exact_solution, points, "Exact solution");
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        Signorini::check_finite(*body_force,
+                                fe_values.get_quadrature_points(),
+                                "Boundary conditions/Body force");
+        if (exact_solution != nullptr)
+          Signorini::check_finite(*exact_solution,
+                                  fe_values.get_quadrature_points(),
+                                  "Exact solution");
+      }
   }
 
 
 
   template <int dim>
-  const typename BoundaryConditions<dim>::TractionPart *
-  BoundaryConditions<dim>::traction_part(const types::boundary_id id) const
+  ComponentMask
+  BoundaryConditions<dim>::dirichlet_mask(const types::boundary_id id) const
   {
-    return part_naming(tractions, id);
+    std::vector<bool> mask(dim, false);
+    for (const auto &part : dirichlet)
+      if (part.ids.count(id) != 0)
+        for (unsigned int c = 0; c < dim; ++c)
+          mask[c] = mask[c] || part.mask[c];
+    return ComponentMask(mask);
+  }
+
+
+
+  template <int dim>
+  bool
+  BoundaryConditions<dim>::has_traction(const types::boundary_id id) const
+  {
+    for (const auto &part : tractions)
+      if (part.ids.count(id) != 0)
+        return true;
+    return false;
+  }
+
+
+
+  template <int dim>
+  void
+  BoundaryConditions<dim>::traction_values(
+    const types::boundary_id       id,
+    const std::vector<Point<dim>> &points,
+    std::vector<Vector<double>>   &values) const
+  {
+    values.assign(points.size(), Vector<double>(dim));
+    std::vector<Vector<double>> part_values(points.size(), Vector<double>(dim));
+    for (const auto &part : tractions)
+      if (part.ids.count(id) != 0)
+        {
+          part.traction->vector_value_list(points, part_values);
+          for (unsigned int q = 0; q < points.size(); ++q)
+            values[q] += part_values[q];
+        }
   }
 
   template class BoundaryConditions<2>;

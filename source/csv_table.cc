@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 
 namespace Signorini
 {
@@ -87,7 +88,17 @@ namespace Signorini
   CsvTable::write(const std::string &filename) const
   {
     std::ofstream out(filename);
-    AssertThrow(out, dealii::ExcIO());
+    write(out);
+    out.close();
+    if (!out)
+      throw std::runtime_error("cannot write <" + filename + ">");
+  }
+
+
+
+  void
+  CsvTable::write(std::ostream &out) const
+  {
     for (unsigned int c = 0; c < columns.size(); ++c)
       out << (c ? "," : "") << columns[c];
     out << '\n';

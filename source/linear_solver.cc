@@ -196,26 +196,32 @@ namespace Signorini
 
   void
   ElasticitySolver::initialize(
-    const LA::SparseMatrix               &stiffness,
-    const LA::SparseMatrix               &condensed_stiffness,
-    const std::vector<std::vector<bool>> &constant_modes)
+    const LA::SparseMatrix                     &stiffness,
+    const LA::SparseMatrix                     &condensed_stiffness,
+    const std::vector<std::vector<bool>>       &constant_modes,
+    const std::vector<types::global_dof_index> &supports)
   {
     stiffness_matrix  = &stiffness;
     condensed_matrix  = &condensed_stiffness;
     translation_modes = constant_modes;
+    support_dofs      = supports;
     use_direct        = (type == "direct") ||
                  (type == "automatic" && stiffness.m() <= direct_solver_limit);
-    current_eliminated_dofs.clear();
-    build_preconditioner(condensed_stiffness);
+    current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
+    update_preconditioner({});
   }
 
 
 
   void
   ElasticitySolver::update_preconditioner(
-    const std::vector<types::global_dof_index> &eliminated_dofs)
+    const std::vector<types::global_dof_index> &active_dofs)
   {
     Assert(condensed_matrix != nullptr, ExcNotInitialized());
+    std::vector<types::global_dof_index> eliminated_dofs(active_dofs);
+    eliminated_dofs.insert(eliminated_dofs.end(),
+                           support_dofs.begin(),
+                           support_dofs.end());
     if (eliminated_dofs == current_eliminated_dofs)
       return;
     current_eliminated_dofs = eliminated_dofs;

@@ -38,12 +38,25 @@ namespace Signorini
                       "output",
                       Patterns::DirectoryName(),
                       "Where the VTU/PVD files, the CSV tables and the "
-                      "parameters used are written (created if needed).");
+                      "parameters used are written (created if needed). A "
+                      "run first deletes the files of the previous run there, "
+                      "as listed in .signorini-manifest, and nothing else.");
     prm.declare_entry("Number of cycles",
                       "1",
                       Patterns::Integer(1, 100),
                       "Number of computations (meshes); with a target error "
                       "(Mesh adaptation) the largest number.");
+    prm.declare_entry("Maximum cells",
+                      "4e6",
+                      Patterns::Double(1.),
+                      "No mesh of more triangles is built: refused at input "
+                      "when its size is known (Initial refinements, uniform "
+                      "cycles, a reference on the initial mesh), before it is "
+                      "built for an adapted mesh. P1 triangles carry about 1 "
+                      "DoF each and the contact solve needs about 1.5 GB per "
+                      "million DoFs: 4e6 takes 6 GB, a quarter of a 24 GiB "
+                      "machine, leaving room for the estimator, the mesh "
+                      "every MPI rank holds and a reference solution.");
     prm.enter_subsection("Output");
     {
       prm.declare_entry("Write vtu",
@@ -74,6 +87,13 @@ namespace Signorini
                       Patterns::Bool(),
                       "Start the active set method of a cycle from the "
                       "active set of the previous (coarser) cycle.");
+    prm.declare_entry("Check tolerance",
+                      "1e-6",
+                      Patterns::Double(0., 1.),
+                      "A computation whose relative solution checks "
+                      "(feasibility, multiplier sign, complementarity, "
+                      "residual, resultant) exceed this has failed (exit code "
+                      "2), whatever its solver reports.");
     prm.leave_subsection();
 
     prm.enter_subsection("Reference solution");
@@ -124,6 +144,7 @@ namespace Signorini
   {
     output_directory = prm.get("Output directory");
     n_cycles         = prm.get_integer("Number of cycles");
+    max_cells        = prm.get_double("Maximum cells");
     prm.enter_subsection("Output");
     write_vtu    = prm.get_bool("Write vtu");
     print_timing = prm.get_bool("Print timing");
@@ -141,6 +162,7 @@ namespace Signorini
     prm.enter_subsection("Contact");
     guess_from_previous_cycle =
       prm.get_bool("Initial active set from previous cycle");
+    check_tolerance = prm.get_double("Check tolerance");
     prm.leave_subsection();
     contact_condition = create_contact_condition<dim>(prm);
     contact_solver    = create_contact_solver<dim>(prm);
@@ -162,6 +184,77 @@ namespace Signorini
       if (contact_boundary.boundary_ids().count(id) != 0)
         throw InputError("boundary id " + std::to_string(id) +
                          " is both a contact id and a Dirichlet/traction id");
+
+    // last: the directory is created only for otherwise valid input
+    check_mesh_sizes();
+    output_files.initialize(output_directory, mpi_communicator);
+  }
+
+
+
+  namespace
+  {
+    /// A number of cells for a message: exact, or rounded when huge.
+    std::string
+    cell_count(const double n)
+    {
+      if (n < 1e15)
+        return std::to_string(static_cast<long long>(std::round(n)));
+      std::ostringstream text;
+      text << std::setprecision(3) << n;
+      return text.str();
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::check_mesh_sizes() const
+  {
+    // the initial mesh before its refinements is cheap to build; every
+    // uniform refinement multiplies its triangles by 4
+    MeshInput<dim> coarse_input      = mesh_input;
+    coarse_input.initial_refinements = 0;
+    Triangulation<dim> coarse;
+    coarse_input.create(coarse);
+    const double n_coarse = coarse.n_active_cells();
+    const auto   cells    = [&](const unsigned int levels) {
+      return n_coarse * std::pow(4., levels);
+    };
+    const std::string limit =
+      ", more than Maximum cells = " + cell_count(max_cells);
+    const unsigned int initial = mesh_input.initial_refinements;
+    if (cells(initial) > max_cells)
+      throw InputError("Mesh/Initial refinements: " + std::to_string(initial) +
+                       " refinements of the " + cell_count(n_coarse) +
+                       " initial cells give " + cell_count(cells(initial)) +
+                       " cells" + limit);
+    // Without a target error uniform cycles run to the last one; with one,
+    // or with adapted meshes, adapt_mesh() checks each mesh before building
+    const bool all_uniform_cycles =
+      size_predictor->name() == "uniform" && size_predictor->target_error == 0.;
+    if (all_uniform_cycles && cells(initial + n_cycles - 1) > max_cells)
+      {
+        unsigned int possible = 1;
+        while (cells(initial + possible) <= max_cells)
+          ++possible;
+        throw InputError("Number of cycles: " + std::to_string(n_cycles) +
+                         " uniform cycles need " +
+                         cell_count(cells(initial + n_cycles - 1)) +
+                         " cells in the last one" + limit + " (at most " +
+                         std::to_string(possible) + " cycles)");
+      }
+    if (reference_extra_levels == 0)
+      return;
+    const unsigned int reference_levels =
+      initial + n_cycles - 1 + reference_extra_levels;
+    if ((!reference_from_final_mesh || all_uniform_cycles) &&
+        cells(reference_levels) > max_cells)
+      throw InputError("Reference solution/Extra refinements: " +
+                       std::to_string(reference_extra_levels) +
+                       " extra refinements give a reference mesh of " +
+                       cell_count(cells(reference_levels)) + " cells" + limit);
   }
 
 
@@ -200,6 +293,9 @@ namespace Signorini
   SignoriniProblem<dim>::setup_system()
   {
     TimerOutput::Scope t(timer, "setup");
+    boundary_conditions.check_finite(mapping,
+                                     triangulation,
+                                     exact_solution.get());
     dof_handler.reinit(triangulation);
     dof_handler.distribute_dofs(fe);
     locally_owned_dofs = dof_handler.locally_owned_dofs();
@@ -243,6 +339,9 @@ namespace Signorini
     homogeneous_constraints.merge(homogeneous_dirichlet);
     homogeneous_constraints.close();
 
+    rigid_motions.reinit(dof_handler,
+                         dirichlet_constraints,
+                         hanging_node_constraints);
     contact_boundary.reinit(mapping,
                             dof_handler,
                             dirichlet_constraints,
@@ -366,18 +465,15 @@ namespace Signorini
       DoFTools::extract_constant_modes(dof_handler,
                                        ComponentMask(dim, true),
                                        constant_modes);
-      linear_solver.initialize(stiffness, condensed_stiffness, constant_modes);
+      linear_solver.initialize(stiffness,
+                               condensed_stiffness,
+                               constant_modes,
+                               rigid_motions.support_dofs());
     }
     setup_timer.stop();
 
-    const DiscreteContactProblem<dim>   problem(stiffness,
-                                              load,
-                                              constraints,
-                                              homogeneous_constraints,
-                                              hanging_node_constraints,
-                                              contact_boundary,
-                                              *contact_condition,
-                                              linear_solver);
+    const DiscreteContactProblem<dim> problem = contact_problem();
+    problem.check_rigid_motions();
     Timer                               solve_timer;
     typename ContactSolver<dim>::Report report;
     {
@@ -389,7 +485,6 @@ namespace Signorini
                                      initial_active_set_guess());
     }
     solve_timer.stop();
-    last_solve_converged = report.converged;
 
     // A row is active when its multiplier is positive beyond round-off (the
     // same rule for both solvers, so that their active sets compare).
@@ -436,6 +531,22 @@ namespace Signorini
                                                  support_points,
                                                  dof_component);
     const double         energy = problem.energy(solution);
+    // the solver's word is not enough: the checks decide
+    const auto [worst_check, worst_value] = checks.largest();
+    last_solve_converged = report.converged && worst_value <= check_tolerance;
+    const auto brief     = [](const double x) {
+      std::ostringstream text;
+      text << std::setprecision(3) << x;
+      return text.str();
+    };
+    if (!report.converged)
+      solve_failure = "the " + contact_solver->name() +
+                      " solver did not converge (KKT residual " +
+                      brief(report.residual) + ")";
+    else if (!last_solve_converged)
+      solve_failure = "the solution checks fail: " + worst_check + " " +
+                      brief(worst_value) +
+                      " > Contact/Check tolerance = " + brief(check_tolerance);
 
     pcout << "   " << contact_condition->name() << " condition, "
           << contact_solver->name() << ": " << report.iterations
@@ -475,7 +586,7 @@ namespace Signorini
     statistics_table.add_value("iterations", report.iterations);
     statistics_table.add_value("linear_solves", report.linear_solves);
     statistics_table.add_value("cg_iterations", report.linear_iterations);
-    statistics_table.add_value("converged", report.converged ? 1u : 0u);
+    statistics_table.add_value("converged", last_solve_converged ? 1u : 0u);
     statistics_table.add_value("kkt_residual", report.residual);
     statistics_table.add_value("energy", energy);
     statistics_table.add_value("contact_force", contact_force);
@@ -571,7 +682,7 @@ namespace Signorini
 
   template <int dim>
   void
-  SignoriniProblem<dim>::adapt_mesh()
+  SignoriniProblem<dim>::adapt_mesh(const unsigned int cycle)
   {
     TimerOutput::Scope   t(timer, "mesh adaptation");
     const unsigned int   n_cells = triangulation.n_active_cells();
@@ -588,7 +699,6 @@ namespace Signorini
     for (unsigned int c = 0; c < n_cells; ++c)
       level_change[c] = static_cast<int>(
         std::ceil(std::log2(1. / prediction.size_ratio[c]) - 1e-10));
-    adaptive_mesh.remesh(mesh_input, level_change, triangulation);
     predicted_cells = prediction.predicted_cells;
     if (size_predictor->uses_estimate())
       pcout << "   " << size_predictor->name() << " prediction: N* = "
@@ -596,6 +706,46 @@ namespace Signorini
             << " elements for eps* = " << std::setprecision(4)
             << 100. * prediction.predicted_error << " %" << std::setprecision(6)
             << std::endl;
+
+    // Refuse a mesh beyond Maximum cells before building it. A cell refined
+    // k levels becomes 4^k cells (the halves of a green cell count as whole
+    // cells, a coarsened cell as one); where the new levels of two
+    // neighbours differ, the closure (2:1 balance, green cells) adds about
+    // one cell per finest edge of their face. This bounded the built mesh
+    // within 20 % on the block (optimal size, fixed fraction); the check
+    // after the build is exact.
+    const auto &levels          = adaptive_mesh.levels();
+    double      requested_cells = 0.;
+    for (const int change : level_change)
+      requested_cells += std::pow(4., std::max(change, 0));
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (!cell->at_boundary(f) &&
+            cell->active_cell_index() < cell->neighbor(f)->active_cell_index())
+          {
+            const unsigned int a = cell->active_cell_index();
+            const unsigned int b = cell->neighbor(f)->active_cell_index();
+            const int new_a = int(levels[a]) + std::max(level_change[a], 0);
+            const int new_b = int(levels[b]) + std::max(level_change[b], 0);
+            if (new_a != new_b)
+              requested_cells +=
+                std::pow(2.,
+                         std::max(new_a, new_b) -
+                           int(std::min(levels[a], levels[b])));
+          }
+    const auto refuse = [&](const std::string &size) {
+      return std::runtime_error(
+        "Maximum cells: the adapted mesh of cycle " + std::to_string(cycle) +
+        " would have " + size + " cells, more than Maximum cells = " +
+        cell_count(max_cells) + " (outputs of " +
+        (cycle == 1 ? "cycle 0" : "cycles 0 to " + std::to_string(cycle - 1)) +
+        " written)");
+    };
+    if (requested_cells > max_cells)
+      throw refuse("about " + cell_count(requested_cells));
+    adaptive_mesh.remesh(mesh_input, level_change, triangulation);
+    if (triangulation.n_active_cells() > max_cells)
+      throw refuse(cell_count(triangulation.n_active_cells()));
   }
 
 
@@ -688,7 +838,7 @@ namespace Signorini
 
   template <int dim>
   void
-  SignoriniProblem<dim>::write_contact_table(const unsigned int cycle) const
+  SignoriniProblem<dim>::write_contact_table(const unsigned int cycle)
   {
     // One row per node of GC, sorted by position.
     const unsigned int        n = contact_boundary.n_nodes();
@@ -715,21 +865,23 @@ namespace Signorini
     if (!pcout.is_active())
       return;
 
-    std::ofstream out(output_directory + "/contact-" +
-                      Utilities::int_to_string(cycle, 2) + ".csv");
-    out
-      << "x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active\n"
-      << std::setprecision(12);
-    for (const unsigned int k : order)
-      {
-        const auto &node = contact_boundary.node(k);
-        const int   i    = row_of_node[k];
-        out << node.position[0] << ',' << node.position[1] << ','
-            << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
-            << contact_boundary.nodal_gap()[k] << ','
-            << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
-            << ((i >= 0 && active_rows[i]) ? 1 : 0) << '\n';
-      }
+    output_files.write(
+      "contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
+      [&](std::ostream &out) {
+        out << "x,y,multiplier_node,normal_displacement,gap,Lambda,"
+               "nodal_force,active\n"
+            << std::setprecision(12);
+        for (const unsigned int k : order)
+          {
+            const auto &node = contact_boundary.node(k);
+            const int   i    = row_of_node[k];
+            out << node.position[0] << ',' << node.position[1] << ','
+                << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
+                << contact_boundary.nodal_gap()[k] << ','
+                << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
+                << ((i >= 0 && active_rows[i]) ? 1 : 0) << '\n';
+          }
+      });
   }
 
 
@@ -743,7 +895,9 @@ namespace Signorini
     write_contact_table(cycle);
     statistics_table.end_row();
     if (root)
-      statistics_table.write(output_directory + "/statistics.csv");
+      output_files.write("statistics.csv", [&](std::ostream &out) {
+        statistics_table.write(out);
+      });
     if (!write_vtu)
       return;
 
@@ -796,29 +950,31 @@ namespace Signorini
         const auto piece = [&](const unsigned int r) {
           return base + "." + Utilities::int_to_string(r, 3) + ".vtu";
         };
-        std::ofstream out(output_directory + "/" + piece(rank));
-        data_out.write_vtu(out);
+        std::vector<std::string> pieces;
+        for (unsigned int r = 0; r < n_ranks; ++r)
+          pieces.push_back(piece(r));
+        // rank 0 lists every piece before any is written, so that a run
+        // stopped in between leaves no unlisted file
+        if (root)
+          for (const auto &file : pieces)
+            output_files.record(file);
+        MPI_Barrier(mpi_communicator);
+        output_files.write(piece(rank),
+                           [&](std::ostream &out) { data_out.write_vtu(out); });
         name = base + ".pvtu";
         if (root)
-          {
-            std::vector<std::string> pieces;
-            for (unsigned int r = 0; r < n_ranks; ++r)
-              pieces.push_back(piece(r));
-            std::ofstream record(output_directory + "/" + name);
-            data_out.write_pvtu_record(record, pieces);
-          }
+          output_files.write(name, [&](std::ostream &out) {
+            data_out.write_pvtu_record(out, pieces);
+          });
       }
     else
-      {
-        std::ofstream out(output_directory + "/" + name);
-        data_out.write_vtu(out);
-      }
+      output_files.write(name,
+                         [&](std::ostream &out) { data_out.write_vtu(out); });
     vtu_files.emplace_back(cycle, name);
     if (root)
-      {
-        std::ofstream pvd(output_directory + "/solution.pvd");
-        DataOutBase::write_pvd_record(pvd, vtu_files);
-      }
+      output_files.write("solution.pvd", [&](std::ostream &out) {
+        DataOutBase::write_pvd_record(out, vtu_files);
+      });
   }
 
 
@@ -948,11 +1104,11 @@ namespace Signorini
     // edges and where their mesh was finer)
     const double n_reference_cells =
       triangulation.n_active_cells() * std::pow(4., reference_extra_levels);
-    if (n_reference_cells > 3e7)
+    if (n_reference_cells > max_cells)
       throw std::runtime_error(
         "Reference solution/Extra refinements: the reference mesh would have " +
-        std::to_string(static_cast<long long>(n_reference_cells)) +
-        " cells (more than 3e7); lower it (computations written)");
+        cell_count(n_reference_cells) + " cells, more than Maximum cells = " +
+        cell_count(max_cells) + "; lower it (computations written)");
     Triangulation<dim> reference_mesh;
     reference_mesh.copy_triangulation(triangulation);
     reference_mesh.refine_global(reference_extra_levels);
@@ -987,7 +1143,9 @@ namespace Signorini
         pcout << std::setprecision(6) << std::endl;
       }
     if (pcout.is_active())
-      statistics_table.write(output_directory + "/statistics.csv");
+      output_files.write("statistics.csv", [&](std::ostream &out) {
+        statistics_table.write(out);
+      });
   }
 
 
@@ -1035,6 +1193,8 @@ namespace Signorini
     reference_prm.enter_subsection("Reference solution");
     reference_prm.set("Extra refinements", 0l);
     reference_prm.leave_subsection();
+    // one solve: its mesh alone is checked against Maximum cells
+    reference_prm.set("Number of cycles", 1l);
     auto reference_problem =
       std::make_unique<SignoriniProblem<dim>>(reference_prm,
                                               mesh_input.input_directory);
@@ -1043,8 +1203,8 @@ namespace Signorini
       reference_problem->previous_contact_state = previous_contact_state;
     reference_problem->solve_once(mesh);
     if (!reference_problem->last_solve_converged)
-      throw std::runtime_error(
-        "the contact solver did not converge for the reference solution");
+      throw std::runtime_error("reference solution: " +
+                               reference_problem->solve_failure);
     return reference_problem;
   }
 
@@ -1073,7 +1233,30 @@ namespace Signorini
   SignoriniProblem<dim>::validate()
   {
     make_grid();
+    // also evaluates every function where it is used on this mesh (NaN or
+    // inf: an input error) and warns about questionable contact data
     setup_system();
+    // a body held by the contact alone: is there an equilibrium? (needs
+    // the load)
+    assemble_system();
+    contact_problem().check_rigid_motions();
+  }
+
+
+
+  template <int dim>
+  DiscreteContactProblem<dim>
+  SignoriniProblem<dim>::contact_problem()
+  {
+    return DiscreteContactProblem<dim>(stiffness,
+                                       load,
+                                       constraints,
+                                       homogeneous_constraints,
+                                       hanging_node_constraints,
+                                       contact_boundary,
+                                       *contact_condition,
+                                       rigid_motions,
+                                       linear_solver);
   }
 
 
@@ -1082,11 +1265,13 @@ namespace Signorini
   void
   SignoriniProblem<dim>::run()
   {
+    // the files of the previous run go first: the directory holds one run
     if (pcout.is_active())
       {
-        std::filesystem::create_directories(output_directory);
-        std::ofstream out(output_directory + "/parameters.prm");
-        prm.print_parameters(out, ParameterHandler::PRM);
+        output_files.start_run();
+        output_files.write("parameters.prm", [&](std::ostream &out) {
+          prm.print_parameters(out, ParameterHandler::PRM);
+        });
       }
     MPI_Barrier(mpi_communicator);
     if (reference_extra_levels > 0 && !reference_from_final_mesh)
@@ -1102,7 +1287,7 @@ namespace Signorini
         if (cycle == 0)
           make_grid();
         else
-          adapt_mesh();
+          adapt_mesh(cycle);
         setup_system();
         pcout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
               << " cells, " << dof_handler.n_dofs() << " DoFs, "
@@ -1132,9 +1317,8 @@ namespace Signorini
           keep_computation();
         output_results(cycle);
         if (!last_solve_converged)
-          throw std::runtime_error(
-            "the contact solver did not converge in cycle " +
-            std::to_string(cycle) + " (outputs written)");
+          throw std::runtime_error("cycle " + std::to_string(cycle) + ": " +
+                                   solve_failure + " (outputs written)");
         if (target_reached())
           {
             pcout << "Target error " << 100. * size_predictor->target_error

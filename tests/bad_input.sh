@@ -134,18 +134,385 @@ check "missing parameter file" "no-such-file.prm" "$work/no-such-file.prm"
 
 # --- non-finite data, parameter files, contact warnings ---
 
+# Functions are evaluated where they are used on each mesh (vertices and
+# quadrature points): NaN or inf is an input error naming the parameter.
+case_prm "gap NaN beyond x = 1/2" "Contact/Gap: Function expression is not finite (nan) at (" \
+  "subsection Contact
+  subsection Gap
+    set Function expression = 1 - sqrt(1 - 4*x^2)
+  end
+end"
+case_prm "gap finite on the first mesh, NaN on the refined one" \
+  "Contact/Gap: Function expression is not finite (nan)" \
+  "set Number of cycles = 2
+subsection Output
+  set Write vtu = false
+end
+subsection Contact
+  subsection Gap
+    set Function expression = sqrt((x - 0.005)*(x - 0.02))
+  end
+end"
+case_prm "traction sqrt(-1)" \
+  "Boundary conditions/Traction 1: Function expression is not finite (nan) at (" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function expression = 0; sqrt(-1)
+  end
+end"
+case_prm "traction 1/0" \
+  "Boundary conditions/Traction 2: Function expression is not finite (inf)" \
+  "subsection Boundary conditions
+  subsection Traction 2
+    set Function expression = 1/0; 0
+  end
+end"
+case_prm "Dirichlet NaN on a prescribed component" \
+  "Boundary conditions/Dirichlet 1: Function expression is not finite (nan)" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Function expression = 0; sqrt(y - 0.5)
+  end
+end"
+case_prm "body force inf at a vertex" \
+  "Boundary conditions/Body force: Function expression is not finite (inf)" \
+  "subsection Boundary conditions
+  subsection Body force
+    set Function expression = 0; 1/(x - 0.5)
+  end
+end"
+case_prm "exact solution NaN" "Exact solution: Function expression is not finite (nan)" \
+  "subsection Exact solution
+  set Enable              = true
+  set Function expression = 0; sqrt(x - 2)
+end"
+case_prm "contact direction nan" "Contact/Direction" \
+  "subsection Contact
+  set Direction = nan, -1
+end"
+case_prm "contact direction -inf" "Contact/Direction" \
+  "subsection Contact
+  set Direction = 0, -inf
+end"
+case_prm "two Dirichlet parts prescribe y on id 1" \
+  "Boundary conditions/Dirichlet 2: boundary id 1, component y is already prescribed by Dirichlet 1" \
+  "subsection Boundary conditions
+  subsection Dirichlet 2
+    set Boundary ids        = 1
+    set Components          = y
+    set Function expression = 0; 0
+  end
+end"
+
+# run_ok NAME TEXT ARGS...: the block (one cycle unless TEXT says otherwise)
+# with TEXT appended runs with exit 0; ARGS are put before the parameter file
+# (e.g. --validate). Leaves the screen output in $work/stdout and the results
+# in $work/out.
+run_ok() {
+  local name=$1 text=$2
+  shift 2
+  { cat "$src/prm/block.prm"
+    printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
+    printf 'subsection Output\n  set Write vtu = false\nend\n'
+    printf '%s\n' "$text"
+  } > "$work/case.prm"
+  rm -rf "$work/out"
+  "$exe" "$@" "$work/case.prm" > "$work/stdout" 2> "$work/stderr"
+  local code=$?
+  if [ "$code" -ne 0 ] || [ -s "$work/stderr" ]; then
+    echo "FAIL $name (exit $code):"
+    cat "$work/stderr"
+    return 1
+  fi
+}
+
+# warns NAME EXPECTED TEXT: questionable data is run (exit 0) with exactly
+# one screen line "Warning: ...EXPECTED"
+warns() {
+  local name=$1 expected=$2 text=$3
+  count=$((count + 1))
+  if ! run_ok "$name" "$text"; then
+    failures=$((failures + 1))
+  elif [ "$(grep -c "^Warning: .*$expected" "$work/stdout")" -ne 1 ]; then
+    echo "FAIL $name: no single warning line with <$expected> on the screen"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(grep "^Warning: " "$work/stdout")"
+  fi
+}
+
+warns "negative gap, two cycles, one warning" \
+  "Contact/Gap is negative (-0.01) at (" \
+  "set Number of cycles = 2
+subsection Contact
+  subsection Gap
+    set Function expression = -0.01
+  end
+end"
+warns "contact direction into the body" "Contact/Direction points into the body" \
+  "subsection Contact
+  set Direction = 0, 1
+end"
+warns "contact direction tangent to GC" "Contact/Direction is nearly tangent" \
+  "subsection Contact
+  set Direction = 1, -0.05
+end"
+
+# eps_of NAME TEXT: the eps of the block's first cycle with TEXT appended
+eps_of() {
+  run_ok "$1" "$2" || return 1
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "eps") c = i }
+           NR == 2 { print $c }' "$work/out/statistics.csv"
+}
+
+# same_eps NAME TEXT: the same eps (and so the same data) as the block itself
+same_eps() {
+  count=$((count + 1))
+  local eps
+  eps=$(eps_of "$1" "$2")
+  if [ -n "$eps" ] && [ "$eps" = "$reference_eps" ]; then
+    echo "ok   $1: eps = $eps"
+  else
+    echo "FAIL $1: eps = <$eps>, the block gives $reference_eps"
+    failures=$((failures + 1))
+  fi
+}
+
+# Every part naming a boundary id counts, in the estimator as in the solver
+reference_eps=$(eps_of "block" "")
+same_eps "Dirichlet 1 split into x and y parts" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Components = x
+  end
+  subsection Dirichlet 2
+    set Boundary ids        = 1
+    set Components          = y
+    set Function expression = 0; 0
+  end
+end"
+same_eps "Traction 1 split into two halves" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function expression = 0; -p/2
+  end
+  subsection Traction 3
+    set Boundary ids        = 3
+    set Function constants  = p=0.1
+    set Function expression = 0; -p/2
+  end
+end"
+# a direction whose squared norm overflows or underflows is still a direction
+same_eps "contact direction 0, -1e300" \
+  "subsection Contact
+  set Direction = 0, -1e300
+end"
+same_eps "contact direction 0, -1e-300" \
+  "subsection Contact
+  set Direction = 0, -1e-300
+end"
+
 # --- output directory, size guard, failed computations ---
 
-# and the good paths: the documented defaults parse back, --validate accepts
-# the shipped examples
-count=$((count + 1))
-if "$exe" --print-parameters > "$work/defaults.prm" &&
-   "$exe" --validate "$work/defaults.prm" > /dev/null &&
-   "$exe" --validate "$src/prm/block.prm" > /dev/null &&
-   "$exe" --validate "$src/prm/hertz.prm" > /dev/null; then
-  echo "ok   defaults round trip and --validate of the examples"
+# outdir_prm FILE DIR [TEXT]: the block example with TEXT, writing into DIR
+# (set last: case_prm's own directory would override a case's)
+outdir_prm() {
+  { cat "$src/prm/block.prm"; printf '%s\n' "${3:-}"
+    printf 'set Output directory = %s\n' "$2"; } > "$1"
+}
+# expect NAME CONDITION...: a check of the files a run left
+expect() {
+  local name=$1
+  shift
+  count=$((count + 1))
+  if "$@"; then
+    echo "ok   $name"
+  else
+    echo "FAIL $name"
+    failures=$((failures + 1))
+  fi
+}
+quiet='subsection Output
+  set Print timing = false
+end'
+
+printf 'a file\n' > "$work/afile"
+outdir_prm "$work/od.prm" "$work/afile"
+check "output directory is a file" "Output directory: <.*afile> exists and is not a directory" \
+  "$work/od.prm"
+check "output directory is a file (--validate)" "Output directory: <.*afile> exists" \
+  --validate "$work/od.prm"
+outdir_prm "$work/od.prm" "$work/afile/out"
+check "output directory under a file" "Output directory: cannot create <.*afile/out>: Not a directory" \
+  "$work/od.prm"
+outdir_prm "$work/od.prm" ""
+check "output directory empty" "Output directory: empty" "$work/od.prm"
+# /proc refuses new files even to root
+outdir_prm "$work/od.prm" /proc
+check "output directory not writable (/proc)" "Output directory: </proc> is not writable" \
+  --validate "$work/od.prm"
+if [ "$(id -u)" -eq 0 ]; then
+  echo "ok   (skipped: root) read-only output directory (chmod 555)"
 else
-  echo "FAIL defaults round trip or --validate"
+  mkdir "$work/readonly" && chmod 555 "$work/readonly"
+  outdir_prm "$work/od.prm" "$work/readonly"
+  check "read-only output directory" "Output directory: <.*readonly> is not writable" \
+    "$work/od.prm"
+  chmod 755 "$work/readonly"
+fi
+# --validate checks the directory by creating it, and removes it again
+outdir_prm "$work/od.prm" "$work/new/deeper"
+expect "--validate leaves no directory behind" \
+  eval '"$exe" --validate "$work/od.prm" > /dev/null && [ ! -e "$work/new" ]'
+
+# Maximum cells: the sizes known from the input are refused before any mesh
+case_prm "too many uniform cycles" \
+  "Number of cycles: 12 uniform cycles need 402653184 cells .*Maximum cells = 4000000 (at most 8 cycles)" \
+  "set Number of cycles = 12"
+check "too many uniform cycles (--validate)" "Number of cycles: 12" \
+  --validate "$work/case.prm"
+case_prm "100 uniform cycles" "Number of cycles: 100 uniform cycles" \
+  "set Number of cycles = 100"
+case_prm "too many initial refinements" \
+  "Mesh/Initial refinements: 9 refinements of the 96 initial cells give 25165824 cells, more than Maximum cells" \
+  "subsection Mesh
+  set Initial refinements = 9
+end"
+case_prm "reference on the initial mesh too fine" \
+  "Reference solution/Extra refinements: 6 extra refinements give a reference mesh of 6291456 cells, more than Maximum cells" \
+  "set Number of cycles = 3
+subsection Reference solution
+  set Extra refinements = 6
+end"
+case_prm "a lower Maximum cells" "Number of cycles: 4 uniform cycles need 6144 cells" \
+  "set Maximum cells = 2000"
+# an adapted mesh: refused before it is built, the earlier cycles kept
+case_prm_exit 2 "adapted mesh beyond Maximum cells" \
+  "Maximum cells: the adapted mesh of cycle 2 would have about 6291456 cells, more than Maximum cells = 4000000" \
+  "set Number of cycles = 3
+subsection Mesh adaptation
+  set Strategy     = optimal size
+  set Target error = 1e-4
+end
+$quiet"
+expect "adapted mesh beyond Maximum cells: cycles 0 and 1 written" \
+  eval '[ -f "$work/out/contact-00.csv" ] && [ -f "$work/out/contact-01.csv" ] &&
+        [ ! -e "$work/out/contact-02.csv" ] &&
+        [ "$(cut -d, -f1 "$work/out/statistics.csv" | tr "\n" " ")" = "cycle 0 1 " ]'
+
+# An output directory holds one run: a rerun with fewer cycles deletes what
+# the earlier run wrote (its manifest), and nothing the user put there
+mkdir "$work/rerun"
+printf 'mine\n' > "$work/rerun/notes.txt"
+printf 'mine\n' > "$work/rerun/contact-07.csv"
+outdir_prm "$work/rerun.prm" "$work/rerun" "set Number of cycles = 3
+$quiet"
+"$exe" "$work/rerun.prm" > /dev/null 2>&1
+outdir_prm "$work/rerun.prm" "$work/rerun" "set Number of cycles = 1
+$quiet"
+"$exe" "$work/rerun.prm" > /dev/null 2>&1
+want=".signorini-manifest contact-00.csv contact-07.csv notes.txt \
+parameters.prm solution-00.vtu solution.pvd statistics.csv "
+listing=$(LC_ALL=C ls -A "$work/rerun" | tr '\n' ' ')
+expect "rerun with fewer cycles leaves no file of the earlier run" \
+  [ "$listing" = "$want" ]
+[ "$listing" = "$want" ] || echo "     (left: $listing)"
+expect "user files in the output directory survive a rerun" \
+  eval '[ "$(cat "$work/rerun/notes.txt" "$work/rerun/contact-07.csv")" = "mine
+mine" ]'
+
+# a full disk mid-run (a file of cycle 1 is /dev/full): a failed
+# computation naming the file, cycle 0 written
+if [ -c /dev/full ]; then
+  mkdir "$work/full"
+  ln -s /dev/full "$work/full/contact-01.csv"
+  outdir_prm "$work/full.prm" "$work/full" "$quiet"
+  check_exit 2 "disk full in cycle 1" "cannot write <.*full/contact-01.csv>: No space left on device" \
+    "$work/full.prm"
+  expect "disk full in cycle 1: cycle 0 written" \
+    [ -f "$work/full/contact-00.csv" -a -f "$work/full/solution-00.vtu" ]
+else
+  echo "ok   (skipped: no /dev/full) disk full in cycle 1"
+fi
+
+# --- bodies held by the contact alone; solution checks decide ---
+
+case_prm "no Dirichlet part: sliding is free" \
+  "free to move: the translation along (1, 0)" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Boundary ids = 
+  end
+end"
+case_prm "roller, load pulling away from the foundation" \
+  "no equilibrium: .*translation along (0, 1)" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Components = x
+  end
+  subsection Traction 1
+    set Function expression = 0; p
+  end
+  subsection Traction 2
+    set Function expression = 0; 0
+  end
+end"
+case_prm "roller, Frank-Wolfe, load pulling away" "no equilibrium" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Components = x
+  end
+  subsection Traction 1
+    set Function expression = 0; p
+  end
+end
+subsection Contact
+  set Solver = Frank-Wolfe
+end"
+case_prm "roller, no load" "no equilibrium" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Components = x
+  end
+  subsection Traction 1
+    set Function expression = 0; 0
+  end
+  subsection Traction 2
+    set Function expression = 0; 0
+  end
+end"
+# --validate finds them before any solve
+check "--validate: roller, no load (the case above)" "no equilibrium" \
+  --validate "$work/case.prm"
+case_prm_exit 2 "solution checks beyond their tolerance" \
+  "cycle 0: the solution checks fail: .* > Contact/Check tolerance" \
+  "subsection Contact
+  set Check tolerance = 1e-30
+end"
+case_prm_exit 2 "Frank-Wolfe stopped early" \
+  "cycle 0: the Frank-Wolfe solver did not converge" \
+  "subsection Contact
+  set Solver = Frank-Wolfe
+  subsection Frank-Wolfe
+    set Maximum iterations = 3
+  end
+end"
+
+# the documented defaults parse back; they name no support, so --validate
+# says what is missing (the defaults are a template, not a case)
+"$exe" --print-parameters > "$work/defaults.prm"
+check "defaults: parse back, no support" "the body is free to move" \
+  --validate "$work/defaults.prm"
+
+# and the good paths: --validate accepts the shipped examples
+count=$((count + 1))
+if "$exe" --validate "$src/prm/block.prm" > /dev/null &&
+   "$exe" --validate "$src/prm/block-adaptive.prm" > /dev/null &&
+   "$exe" --validate "$src/prm/manufactured.prm" > /dev/null &&
+   "$exe" --validate "$src/prm/hertz.prm" > /dev/null; then
+  echo "ok   --validate of the examples"
+else
+  echo "FAIL --validate of the examples"
   failures=$((failures + 1))
 fi
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Run a parameter file serially and on 2 MPI ranks and compare the results.
 
-Usage: serial_parallel.py SIGNORINI_BINARY PRM WORK_DIRECTORY
+Usage: serial_parallel.py SIGNORINI_BINARY PRM WORK_DIRECTORY [RANKS]
 
 The partition must not change the computation: mesh sizes, contact node
 counts and active sets exactly; energies, forces, errors and nodal contact
@@ -20,11 +20,13 @@ CLOSE = ["energy", "contact_force", "e", "eps", "eps_contact", "eps_ex",
 TOLERANCE = 1e-7  # relative; the CG tolerance is 1e-10
 
 
-def run(binary, prm, directory, ranks):
+def run(binary, prm, directory, ranks, extra=""):
+    """Run PRM (plus the parameter text EXTRA) on RANKS ranks into DIRECTORY."""
     os.makedirs(directory, exist_ok=True)
     wrapper = os.path.join(directory, "run.prm")
     with open(wrapper, "w") as f:
         f.write(f"include {os.path.abspath(prm)}\n")
+        f.write(extra)
         f.write(f"set Output directory = {os.path.abspath(directory)}\n")
     command = [binary, wrapper]
     if ranks > 1:
@@ -45,18 +47,13 @@ def close(a, b, scale):
     return abs(float(a) - float(b)) <= TOLERANCE * max(scale, 1e-300)
 
 
-def main():
-    binary, prm, work = sys.argv[1:4]
-    shutil.rmtree(work, ignore_errors=True)
-    serial, parallel = os.path.join(work, "serial"), os.path.join(work, "np2")
-    run(binary, prm, serial, 1)
-    run(binary, prm, parallel, 2)
-
+def compare(serial, parallel):
+    """The differences between the runs in the directories SERIAL and PARALLEL."""
     problems = []
     rows_1 = read(os.path.join(serial, "statistics.csv"))
     rows_2 = read(os.path.join(parallel, "statistics.csv"))
     if len(rows_1) != len(rows_2):
-        problems.append(f"{len(rows_1)} cycles serially, {len(rows_2)} on 2 ranks")
+        problems.append(f"{len(rows_1)} cycles serially, {len(rows_2)} in parallel")
     for r1, r2 in zip(rows_1, rows_2):
         for key in EXACT:
             if key in r1 and r1[key] != r2.get(key):
@@ -80,15 +77,28 @@ def main():
         active_2 = [n["active"] for n in nodes_2]
         if active_1 != active_2:
             problems.append(f"{name}: active sets differ")
-    n_cycles = len(rows_1)
-    print(f"{os.path.basename(prm)}: {n_cycles} cycles, cells "
+    return problems
+
+
+def main():
+    binary, prm, work = sys.argv[1:4]
+    ranks = int(sys.argv[4]) if len(sys.argv) > 4 else 2
+    shutil.rmtree(work, ignore_errors=True)
+    serial = os.path.join(work, "serial")
+    parallel = os.path.join(work, f"np{ranks}")
+    run(binary, prm, serial, 1)
+    run(binary, prm, parallel, ranks)
+    problems = compare(serial, parallel)
+    rows_1 = read(os.path.join(serial, "statistics.csv"))
+    print(f"{os.path.basename(prm)}: {len(rows_1)} cycles, cells "
           f"{[r['cells'] for r in rows_1]}, active nodes "
           f"{[r['active_nodes'] for r in rows_1]}, eps "
           f"{[r.get('eps', '-') for r in rows_1]}: "
-          + ("identical on 1 and 2 ranks" if not problems else "DIFFERENT"))
+          + (f"identical on 1 and {ranks} ranks" if not problems else "DIFFERENT"))
     for p in problems:
         print("  " + p)
     sys.exit(1 if problems else 0)
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -5,6 +5,11 @@
 #include <deal.II/base/parsed_function.h>
 
 #include <deal.II/fe/component_mask.h>
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <deal.II/lac/vector.h>
 
 #include <memory>
 #include <set>
@@ -21,6 +26,10 @@ namespace Signorini
    * the body force f_d. Each Dirichlet or traction part is a numbered
    * subsection with a list of boundary ids and a parsed vector function of
    * (x, y) (components separated by ';'); unused parts have no ids.
+   *
+   * Several parts may name the same boundary id: Dirichlet parts with
+   * disjoint components (e.g. x by one part, y by another), traction parts
+   * whose loads add up.
    */
   template <int dim>
   class BoundaryConditions
@@ -31,6 +40,9 @@ namespace Signorini
 
     struct DirichletPart
     {
+      /// The parameter subsection, e.g. "Boundary conditions/Dirichlet 2",
+      /// for messages.
+      std::string                                     name;
       std::set<types::boundary_id>                    ids;
       ComponentMask                                   mask;
       std::unique_ptr<Functions::ParsedFunction<dim>> displacement;
@@ -38,6 +50,8 @@ namespace Signorini
 
     struct TractionPart
     {
+      /// The parameter subsection, e.g. "Boundary conditions/Traction 1".
+      std::string                                     name;
       std::set<types::boundary_id>                    ids;
       std::unique_ptr<Functions::ParsedFunction<dim>> traction;
     };
@@ -45,20 +59,44 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read the parts; two Dirichlet parts prescribing the same component
+    /// on the same boundary id are an InputError.
     void
     parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Throw an InputError naming the parameter and the point unless every
+     * function is finite where it is used on @p triangulation: each
+     * Dirichlet displacement (its prescribed components) and each traction
+     * at the vertices and face quadrature points of the boundary faces with
+     * its ids, the body force, and @p exact_solution if not null, at the
+     * vertices and cell quadrature points (the quadrature rules of the
+     * assembly). Called for every mesh: refined meshes have new points.
+     */
+    void
+    check_finite(const Mapping<dim>       &mapping,
+                 const Triangulation<dim> &triangulation,
+                 const Function<dim>      *exact_solution = nullptr) const;
 
     /// Every boundary id named by a Dirichlet or traction part.
     std::set<types::boundary_id>
     used_boundary_ids() const;
 
-    /// The Dirichlet part naming boundary @p id, or nullptr.
-    const DirichletPart *
-    dirichlet_part(const types::boundary_id id) const;
+    /// The components prescribed on boundary @p id by all Dirichlet parts
+    /// naming it (none selected if there is no such part).
+    ComponentMask
+    dirichlet_mask(const types::boundary_id id) const;
 
-    /// The traction part naming boundary @p id, or nullptr.
-    const TractionPart *
-    traction_part(const types::boundary_id id) const;
+    /// Whether some traction part names boundary @p id.
+    bool
+    has_traction(const types::boundary_id id) const;
+
+    /// The traction on boundary @p id at @p points: the sum over all
+    /// traction parts naming it (zero if there is none).
+    void
+    traction_values(const types::boundary_id       id,
+                    const std::vector<Point<dim>> &points,
+                    std::vector<Vector<double>>   &values) const;
 
     std::vector<DirichletPart>                      dirichlet;
     std::vector<TractionPart>                       tractions;

@@ -2,6 +2,7 @@
 #define signorini_csv_table_h
 
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,14 @@ namespace Signorini
     void
     end_row();
 
+    /// Write the table to @p filename; throws std::runtime_error naming it
+    /// if it cannot be written.
     void
     write(const std::string &filename) const;
+
+    /// Write the table to @p out.
+    void
+    write(std::ostream &out) const;
 
     /// Values of @p column in all completed rows ("" where unset).
     std::vector<std::string>

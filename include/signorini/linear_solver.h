@@ -45,12 +45,16 @@ namespace Signorini
      * @p stiffness is the unconstrained K (singular without its constraints),
      * @p condensed_stiffness the same matrix condensed with the base
      * constraints (hanging nodes, Dirichlet); @p constant_modes the
-     * translation modes per component, for AMG.
+     * translation modes per component, for AMG. The preconditioners
+     * always eliminate @p support_dofs (see RigidMotions): with them the
+     * base-condensed matrix is invertible even for a body held only by the
+     * contact, whose operators differ from it by a low-rank term.
      */
     void
-    initialize(const LA::SparseMatrix               &stiffness,
-               const LA::SparseMatrix               &condensed_stiffness,
-               const std::vector<std::vector<bool>> &constant_modes);
+    initialize(const LA::SparseMatrix                     &stiffness,
+               const LA::SparseMatrix                     &condensed_stiffness,
+               const std::vector<std::vector<bool>>       &constant_modes,
+               const std::vector<types::global_dof_index> &support_dofs = {});
 
     /**
      * Rebuild the preconditioner from the base-condensed matrix in which the
@@ -100,6 +104,7 @@ namespace Signorini
     const LA::SparseMatrix              *condensed_matrix = nullptr;
     LA::SparseMatrix                     modified_matrix;
     std::vector<std::vector<bool>>       translation_modes;
+    std::vector<types::global_dof_index> support_dofs;
     std::vector<types::global_dof_index> current_eliminated_dofs;
     bool                                 use_direct = true;
     mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;

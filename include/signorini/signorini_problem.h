@@ -25,6 +25,7 @@
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/rigid_motions.h>
 #include <signorini/contact/solution_checks.h>
 #include <signorini/contact/solver.h>
 #include <signorini/csv_table.h>
@@ -33,6 +34,7 @@
 #include <signorini/linear_solver.h>
 #include <signorini/material.h>
 #include <signorini/mesh_input.h>
+#include <signorini/output_directory.h>
 
 #include <memory>
 #include <string>
@@ -109,10 +111,10 @@ namespace Signorini
     void
     make_grid();
 
-    /// The next mesh from the size predictor (spec section 5), rebuilt from
-    /// the initial one.
+    /// The mesh of @p cycle from the size predictor (spec section 5),
+    /// rebuilt from the initial one; throws if it would exceed Maximum cells.
     void
-    adapt_mesh();
+    adapt_mesh(const unsigned int cycle);
 
     /// Has the last estimate reached the target error (with tolerance)?
     bool
@@ -128,6 +130,10 @@ namespace Signorini
 
     void
     assemble_system();
+
+    /// The discrete contact problem of the current mesh (after assembly).
+    DiscreteContactProblem<dim>
+    contact_problem();
 
     void
     solve_contact(const unsigned int cycle);
@@ -182,7 +188,13 @@ namespace Signorini
     output_results(const unsigned int cycle);
 
     void
-    write_contact_table(const unsigned int cycle) const;
+    write_contact_table(const unsigned int cycle);
+
+    /// Refuse, before any mesh is built, the meshes whose size is known
+    /// from the input (the initial mesh, uniform cycles, a reference on the
+    /// initial mesh) beyond Maximum cells: throws InputError.
+    void
+    check_mesh_sizes() const;
 
     // Input
     ParameterHandler                               &prm;
@@ -194,6 +206,8 @@ namespace Signorini
     LinearElasticMaterial<dim>                      material;
     BoundaryConditions<dim>                         boundary_conditions;
     std::unique_ptr<Functions::ParsedFunction<dim>> exact_solution;
+    /// No mesh of more cells is built (Maximum cells)
+    double max_cells;
 
     // Discretisation: the computational mesh is the conforming version of
     // an adaptive hierarchy built on the initial mesh
@@ -222,6 +236,9 @@ namespace Signorini
     AffineConstraints<double> constraints;
     AffineConstraints<double> homogeneous_constraints;
 
+    // The rigid motions the Dirichlet data leave to the contact
+    RigidMotions<dim> rigid_motions;
+
     // Contact
     ContactBoundary<dim>                   contact_boundary;
     std::unique_ptr<ContactCondition<dim>> contact_condition;
@@ -238,7 +255,11 @@ namespace Signorini
     Vector<double>    dual_solution;
     std::vector<bool> active_rows; // of the last solve, per multiplier node
     bool              last_solve_converged = true;
-    ElasticitySolver  linear_solver;
+    /// Why the last computation failed (solver or solution checks).
+    std::string solve_failure;
+    /// Largest relative solution check a converged computation may have.
+    double           check_tolerance = 1e-6;
+    ElasticitySolver linear_solver;
 
     // Error in constitutive relation
     ConstitutiveRelationError<dim>                  estimator;
@@ -262,6 +283,7 @@ namespace Signorini
     std::unique_ptr<SignoriniProblem<dim>>    reference;
 
     // Output
+    OutputDirectory                             output_files;
     TimerOutput                                 timer;
     CsvTable                                    statistics_table;
     std::vector<std::pair<double, std::string>> vtu_files;

@@ -1,9 +1,43 @@
 #include <signorini/contact/active_set_solver.h>
 
+#include <algorithm>
+#include <numeric>
 #include <set>
 
 namespace Signorini
 {
+  namespace
+  {
+    /**
+     * An active set that lets a free rigid motion move gives a singular
+     * system. Keep the rows of @p active with the largest dual values
+     * (the last ones to leave) in @p next until the free motions are
+     * stopped.
+     */
+    template <int dim>
+    void
+    keep_rigid_motions_blocked(const DiscreteContactProblem<dim> &problem,
+                               const std::vector<bool>           &active,
+                               const Vector<double>              &y,
+                               std::vector<bool>                 &next)
+    {
+      std::vector<unsigned int> rows(active.size());
+      std::iota(rows.begin(), rows.end(), 0u);
+      std::stable_sort(rows.begin(),
+                       rows.end(),
+                       [&](const unsigned int a, const unsigned int b) {
+                         return (active[a] ? y[a] : -1e300) >
+                                (active[b] ? y[b] : -1e300);
+                       });
+      for (const unsigned int i : rows)
+        {
+          if (problem.blocks_rigid_motions(next))
+            return;
+          next[i] = true;
+        }
+    }
+  } // namespace
+
   template <int dim>
   void
   ActiveSetSolver<dim>::declare_parameters(ParameterHandler &prm)
@@ -67,10 +101,16 @@ namespace Signorini
     typename ContactSolver<dim>::Report report;
     const unsigned int                  m = problem.n_constraints();
     // Without a guess the first step (empty active set) is the
-    // unconstrained problem.
-    std::vector<bool>           active = (initial_active.size() == m) ?
-                                           initial_active :
-                                           std::vector<bool>(m, false);
+    // unconstrained problem. A body held only by the contact has no
+    // unconstrained problem: every active set must stop its free rigid
+    // motions (check_rigid_motions() made sure the whole zone does), so it
+    // starts in full contact.
+    const bool        floating = (problem.n_rigid_motions() > 0);
+    std::vector<bool> active   = (initial_active.size() == m) ?
+                                   initial_active :
+                                   std::vector<bool>(m, floating);
+    if (!problem.blocks_rigid_motions(active))
+      active.assign(m, true);
     std::set<std::vector<bool>> visited{active};
     // (without constraints the first solve is the last: make it exact)
     bool              exact = (inexact_tolerance == 0. || m == 0);
@@ -107,6 +147,8 @@ namespace Signorini
         std::vector<bool>    next(m);
         for (unsigned int i = 0; i < m; ++i)
           next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
+        if (!problem.blocks_rigid_motions(next))
+          keep_rigid_motions_blocked(problem, active, y, next);
 
         if (next == active)
           {

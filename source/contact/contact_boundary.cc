@@ -6,12 +6,52 @@
 
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
 #include <map>
+#include <sstream>
 
 namespace Signorini
 {
+  namespace
+  {
+    /// Print "Warning: @p text" on rank 0 unless a warning of this @p kind
+    /// was printed before in this process: once per run, not per mesh nor
+    /// again for the reference solution's own problem.
+    void
+    warn_once(const std::string &kind,
+              const std::string &text,
+              const MPI_Comm     communicator)
+    {
+      static std::set<std::string> printed;
+      if (!printed.insert(kind).second)
+        return;
+      if (Utilities::MPI::this_mpi_process(communicator) == 0)
+        std::cout << "Warning: " << text << std::endl;
+    }
+
+    /// "(x, y)" with a few digits, for messages
+    template <int dim>
+    std::string
+    point_text(const Point<dim> &p)
+    {
+      std::ostringstream text;
+      text.precision(4);
+      text << "(";
+      for (unsigned int d = 0; d < dim; ++d)
+        text << (d > 0 ? ", " : "") << p[d];
+      text << ")";
+      return text.str();
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   ContactBoundary<dim>::declare_parameters(ParameterHandler &prm)
@@ -63,8 +103,19 @@ namespace Signorini
               throw InputError("Contact/Direction = <" + direction_text +
                                ">: not a vector of numbers");
             }
-          if (contact_direction.norm() == 0.)
+          double largest = 0.;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              if (!std::isfinite(contact_direction[d]))
+                throw InputError("Contact/Direction = <" + direction_text +
+                                 ">: component " + static_cast<char>('x' + d) +
+                                 " is not finite");
+              largest = std::max(largest, std::abs(contact_direction[d]));
+            }
+          if (largest == 0.)
             throw InputError("Contact/Direction must not be the zero vector");
+          // scaled first: the squares of 1e300 or 1e-300 overflow/underflow
+          contact_direction /= largest;
           contact_direction /= contact_direction.norm();
         }
       prm.enter_subsection("Gap");
@@ -237,6 +288,117 @@ namespace Signorini
                              JxW);
               }
           }
+      }
+    check_data(mapping, dof_handler);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactBoundary<dim>::check_data(const Mapping<dim>    &mapping,
+                                   const DoFHandler<dim> &dof_handler) const
+  {
+    std::vector<Point<dim>> positions;
+    for (const Node &node : nodes)
+      positions.push_back(node.position);
+    check_finite(*gap_function, positions, "Contact/Gap");
+
+    // the quadrature of the weighted gap in reinit()
+    const QGaussSimplex<dim - 1> face_quadrature(3);
+    FEFaceValues<dim>            fe_face_values(mapping,
+                                     dof_handler.get_fe(),
+                                     face_quadrature,
+                                     update_quadrature_points |
+                                       update_normal_vectors);
+    // |nu_c . n| below this (about 84 degrees between them): nearly tangent
+    const double tangent_limit = 0.1;
+    unsigned int n_faces = 0, n_tangent = 0, n_inward = 0;
+    double       tangent_worst = std::numeric_limits<double>::infinity();
+    double       inward_worst  = std::numeric_limits<double>::infinity();
+    Point<dim>   tangent_where, inward_where;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            ids.count(cell->face(f)->boundary_id()) != 0)
+          {
+            fe_face_values.reinit(cell, f);
+            check_finite(*gap_function,
+                         fe_face_values.get_quadrature_points(),
+                         "Contact/Gap");
+            ++n_faces;
+            // straight faces: one outward normal
+            const double dot =
+              contact_direction * fe_face_values.normal_vector(0);
+            if (std::abs(dot) < tangent_limit)
+              {
+                ++n_tangent;
+                if (std::abs(dot) < tangent_worst)
+                  {
+                    tangent_worst = std::abs(dot);
+                    tangent_where = cell->face(f)->center();
+                  }
+              }
+            else if (dot < 0.)
+              {
+                ++n_inward;
+                if (dot < inward_worst)
+                  {
+                    inward_worst = dot;
+                    inward_where = cell->face(f)->center();
+                  }
+              }
+          }
+
+    const MPI_Comm communicator =
+      dof_handler.get_triangulation().get_communicator();
+    const auto degrees = [](const double cosine) {
+      std::ostringstream text;
+      text.precision(3);
+      text << std::acos(std::clamp(cosine, -1., 1.)) * 180. / numbers::PI;
+      return text.str();
+    };
+    if (n_tangent > 0)
+      warn_once("tangent direction",
+                "Contact/Direction is nearly tangent to the contact boundary "
+                "at " +
+                  std::to_string(n_tangent) + " of " + std::to_string(n_faces) +
+                  " contact faces (worst at " + point_text(tangent_where) +
+                  ": " + degrees(tangent_worst) +
+                  " degrees from the outward normal); there u . nu_c <= g "
+                  "restrains sliding along the boundary rather than "
+                  "penetration",
+                communicator);
+    if (n_inward > 0)
+      warn_once("inward direction",
+                "Contact/Direction points into the body at " +
+                  std::to_string(n_inward) + " of " + std::to_string(n_faces) +
+                  " contact faces (worst at " + point_text(inward_where) +
+                  ": " + degrees(inward_worst) +
+                  " degrees from the outward normal); nu_c should point from "
+                  "the body to the foundation",
+                communicator);
+
+    unsigned int n_negative = 0, worst = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (gap_at_nodes[k] < 0.)
+        {
+          ++n_negative;
+          if (gap_at_nodes[k] < gap_at_nodes[worst])
+            worst = k;
+        }
+    if (n_negative > 0)
+      {
+        std::ostringstream value;
+        value.precision(4);
+        value << gap_at_nodes[worst];
+        warn_once("negative gap",
+                  "Contact/Gap is negative (" + value.str() + ") at " +
+                    point_text(nodes[worst].position) +
+                    ": the body starts in penetration (" +
+                    std::to_string(n_negative) + " of " +
+                    std::to_string(nodes.size()) + " contact nodes)",
+                  communicator);
       }
   }
 

@@ -1,7 +1,97 @@
+#include <deal.II/lac/householder.h>
+
 #include <signorini/contact/discrete_problem.h>
+#include <signorini/input_error.h>
+
+#include <cmath>
 
 namespace Signorini
 {
+  namespace
+  {
+    /**
+     * Non-negative least squares (Lawson-Hanson): min |sum_i x_i a_i - t|
+     * over x >= 0, for few-dimensional columns a_i (here the rows of C, of
+     * size n_rigid_motions). Returns the residual t - sum_i x_i a_i: zero
+     * when t lies in the cone of the a_i; otherwise a direction z with
+     * a_i . z <= 0 for all i and t . z = |z|^2 > 0.
+     */
+    Vector<double>
+    cone_residual(const std::vector<Vector<double>> &columns,
+                  const Vector<double>              &target)
+    {
+      const unsigned int        n = target.size();
+      std::vector<double>       x(columns.size(), 0.);
+      std::vector<unsigned int> passive;
+      Vector<double>            residual(target);
+      double                    scale = target.l2_norm();
+      for (const auto &a : columns)
+        scale = std::max(scale, a.l2_norm());
+      const double tolerance       = 1e-13 * scale * scale;
+      const auto   update_residual = [&]() {
+        residual = target;
+        for (const unsigned int i : passive)
+          residual.add(-x[i], columns[i]);
+      };
+      for (unsigned int step = 0; step < 10 * columns.size() + 10; ++step)
+        {
+          unsigned int entering = numbers::invalid_unsigned_int;
+          double       best     = tolerance;
+          for (unsigned int i = 0; i < columns.size(); ++i)
+            if (std::find(passive.begin(), passive.end(), i) == passive.end() &&
+                columns[i] * residual > best)
+              {
+                best     = columns[i] * residual;
+                entering = i;
+              }
+          if (entering == numbers::invalid_unsigned_int || passive.size() >= n)
+            break;
+          passive.push_back(entering);
+          while (true)
+            {
+              // unconstrained least squares on the passive columns
+              FullMatrix<double> matrix(n, passive.size());
+              for (unsigned int k = 0; k < passive.size(); ++k)
+                for (unsigned int d = 0; d < n; ++d)
+                  matrix(d, k) = columns[passive[k]][d];
+              Vector<double> z(passive.size());
+              Householder<double>(matrix).least_squares(z, target);
+              bool   positive = true;
+              double alpha    = 1.;
+              for (unsigned int k = 0; k < passive.size(); ++k)
+                if (z[k] <= 0.)
+                  {
+                    positive = false;
+                    alpha =
+                      std::min(alpha, x[passive[k]] / (x[passive[k]] - z[k]));
+                  }
+              if (positive)
+                {
+                  for (unsigned int k = 0; k < passive.size(); ++k)
+                    x[passive[k]] = z[k];
+                  break;
+                }
+              for (unsigned int k = 0; k < passive.size(); ++k)
+                x[passive[k]] += alpha * (z[k] - x[passive[k]]);
+              passive.erase(std::remove_if(passive.begin(),
+                                           passive.end(),
+                                           [&](const unsigned int i) {
+                                             if (x[i] > 1e-14 * scale)
+                                               return false;
+                                             x[i] = 0.;
+                                             return true;
+                                           }),
+                            passive.end());
+            }
+          update_residual();
+        }
+      update_residual();
+      return residual;
+    }
+  } // namespace
+
+
+
   template <int dim>
   DiscreteContactProblem<dim>::DiscreteContactProblem(
     const LA::SparseMatrix          &stiffness,
@@ -11,6 +101,7 @@ namespace Signorini
     const AffineConstraints<double> &hanging_node_constraints,
     const ContactBoundary<dim>      &boundary,
     const ContactCondition<dim>     &condition,
+    const RigidMotions<dim>         &rigid_motions,
     ElasticitySolver                &linear_solver)
     : stiffness_matrix(stiffness)
     , load_vector(load)
@@ -19,8 +110,175 @@ namespace Signorini
     , hanging_node_constraints(hanging_node_constraints)
     , contact_boundary(boundary)
     , contact_condition(condition)
+    , rigid_motions(rigid_motions)
     , linear_solver(linear_solver)
-  {}
+  {
+    const unsigned int r = rigid_motions.size();
+    if (r == 0)
+      return;
+    for (auto [supported, base] :
+         {std::make_pair(&supported_constraints, &base_constraints),
+          std::make_pair(&homogeneous_supported_constraints,
+                         &homogeneous_base_constraints)})
+      {
+        supported->clear();
+        supported->merge(*base);
+        rigid_motions.add_supports(*supported);
+        supported->close();
+      }
+    rigid_rows.reinit(n_constraints(), r);
+    rigid_load_vector.reinit(r);
+    for (unsigned int j = 0; j < r; ++j)
+      {
+        const Vector<double> column = constraint_values(rigid_motions.mode(j));
+        for (unsigned int i = 0; i < n_constraints(); ++i)
+          rigid_rows(i, j) = column[i];
+        rigid_load_vector[j] = load_vector * rigid_motions.mode(j);
+      }
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  DiscreteContactProblem<dim>::n_rigid_motions() const
+  {
+    return rigid_motions.size();
+  }
+
+
+
+  template <int dim>
+  void
+  DiscreteContactProblem<dim>::check_rigid_motions() const
+  {
+    const unsigned int r = n_rigid_motions();
+    if (r == 0)
+      return;
+    const unsigned int m = n_constraints();
+    // the rows of C per unit of row weight: the normal motion of each
+    // contact row under each free motion, of size one
+    std::vector<Vector<double>> rows(m, Vector<double>(r));
+    FullMatrix<double>          gram(r, r);
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        for (unsigned int j = 0; j < r; ++j)
+          rows[i][j] = rigid_rows(i, j) / contact_condition.row_weight(i);
+        for (unsigned int j = 0; j < r; ++j)
+          for (unsigned int k = 0; k < r; ++k)
+            gram(j, k) += rows[i][j] * rows[i][k];
+      }
+    const FullMatrix<double> unstopped =
+      null_space_of_gram(gram, 1e-10 * std::max(1., 1. * m));
+    if (unstopped.n() > 0)
+      {
+        Vector<double> motion(r);
+        for (unsigned int j = 0; j < r; ++j)
+          motion[j] = unstopped(j, 0);
+        throw InputError(
+          "the body is free to move: the " + rigid_motions.describe(motion) +
+          " is prevented neither by the Dirichlet data (Boundary "
+          "conditions/Dirichlet) nor by the contact (Contact/Boundary ids, "
+          "Direction); prescribe that motion with a Dirichlet condition");
+      }
+
+    // C^T y = h with y >= 0 must hold for h and every nearby load: h in the
+    // interior of the cone of the rows, or some free motion z with C z <= 0
+    // (lifting off, or sliding) has h . z >= 0
+    const double   h_norm = rigid_load_vector.l2_norm();
+    Vector<double> target(rigid_load_vector);
+    if (h_norm > 0.)
+      target /= h_norm;
+    for (unsigned int k = 0; k <= 2 * r; ++k)
+      {
+        Vector<double> perturbed(target);
+        if (k > 0)
+          perturbed[(k - 1) / 2] += ((k % 2 == 0) ? 1e-6 : -1e-6);
+        const Vector<double> motion = cone_residual(rows, perturbed);
+        if (motion.l2_norm() > 1e-9)
+          throw InputError(
+            "no equilibrium: the body is held only by the contact, and the "
+            "load does not press it onto the foundation (Contact/Boundary "
+            "ids, Direction): the free " +
+            rigid_motions.describe(motion) +
+            " moves it away from the foundation or along it without the load "
+            "resisting; check the direction of the load or prescribe that "
+            "motion with a Dirichlet condition");
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  DiscreteContactProblem<dim>::blocks_rigid_motions(
+    const std::vector<bool> &active) const
+  {
+    const unsigned int r = n_rigid_motions();
+    if (r == 0)
+      return true;
+    FullMatrix<double> gram(r, r);
+    unsigned int       n_active = 0;
+    for (unsigned int i = 0; i < active.size(); ++i)
+      if (active[i])
+        {
+          ++n_active;
+          const double weight = contact_condition.row_weight(i);
+          for (unsigned int j = 0; j < r; ++j)
+            for (unsigned int k = 0; k < r; ++k)
+              gram(j, k) +=
+                rigid_rows(i, j) * rigid_rows(i, k) / (weight * weight);
+        }
+    return n_active > 0 &&
+           null_space_of_gram(gram, 1e-10 * std::max(1., 1. * n_active)).n() ==
+             0;
+  }
+
+
+
+  template <int dim>
+  const FullMatrix<double> &
+  DiscreteContactProblem<dim>::rigid_constraint_rows() const
+  {
+    return rigid_rows;
+  }
+
+
+
+  template <int dim>
+  const Vector<double> &
+  DiscreteContactProblem<dim>::rigid_load() const
+  {
+    return rigid_load_vector;
+  }
+
+
+
+  template <int dim>
+  FullMatrix<double>
+  DiscreteContactProblem<dim>::rigid_normal_components() const
+  {
+    FullMatrix<double> normals(contact_boundary.n_nodes(), n_rigid_motions());
+    for (unsigned int j = 0; j < n_rigid_motions(); ++j)
+      {
+        const Vector<double> column =
+          contact_boundary.normal_components(rigid_motions.mode(j));
+        for (unsigned int k = 0; k < column.size(); ++k)
+          normals(k, j) = column[k];
+      }
+    return normals;
+  }
+
+
+
+  template <int dim>
+  void
+  DiscreteContactProblem<dim>::add_rigid_motion(const Vector<double> &c,
+                                                LA::Vector           &u) const
+  {
+    for (unsigned int j = 0; j < c.size(); ++j)
+      u.add(c[j], rigid_motions.mode(j));
+  }
 
 
 
@@ -124,7 +382,11 @@ namespace Signorini
     if (forces.size() > 0)
       contact_boundary.add_normal_forces(forces, load);
     load.compress(VectorOperation::add);
-    return linear_solver.solve(base_constraints, load, u, relative_tolerance);
+    return linear_solver.solve(n_rigid_motions() > 0 ? supported_constraints :
+                                                       base_constraints,
+                               load,
+                               u,
+                               relative_tolerance);
   }
 
 
@@ -146,7 +408,11 @@ namespace Signorini
     LA::Vector z(load_vector);
     z = 0.;
     const unsigned int iterations =
-      linear_solver.solve(homogeneous_base_constraints, load, z);
+      linear_solver.solve(n_rigid_motions() > 0 ?
+                            homogeneous_supported_constraints :
+                            homogeneous_base_constraints,
+                          load,
+                          z);
     column = constraint_values(z);
     return iterations;
   }

@@ -1,3 +1,5 @@
+#include <deal.II/lac/lapack_full_matrix.h>
+
 #include <signorini/contact/frank_wolfe_solver.h>
 
 namespace Signorini
@@ -62,7 +64,8 @@ namespace Signorini
     typename ContactSolver<dim>::Report report;
     const unsigned int                  m = problem.n_constraints();
 
-    // d = B K^{-1} F - b from the unconstrained solution.
+    // d = B K^{-1} F - b from the unconstrained solution (K_s, with the
+    // supports of the free rigid motions, if any).
     y.reinit(m);
     report.linear_iterations += problem.solve_with_dual(y, u);
     ++report.linear_solves;
@@ -73,13 +76,46 @@ namespace Signorini
       }
     Vector<double> d = problem.constraint_values(u);
     d -= problem.bounds();
-    Vector<double> g(d); // g = S y - d
-    g *= -1.;
     const double scale = std::max(max_norm(d), 1e-300);
+
+    // A body held only by the contact: the dual solution must also balance
+    // the load on the free rigid motions, C^T y = h. An augmented
+    // Lagrangian keeps the cone y >= 0 Frank-Wolfe's only constraint: the
+    // dual energy gets mu^T (C^T y - h) + rho/2 |C^T y - h|^2, whose
+    // Hessian is S + rho C C^T, and mu, updated between Frank-Wolfe runs,
+    // converges to minus the rigid displacement.
+    const FullMatrix<double> &C = problem.rigid_constraint_rows();
+    const Vector<double>     &h = problem.rigid_load();
+    const unsigned int        r = problem.n_rigid_motions();
+    Vector<double>            mu(r);
+    double                    rho = 0.;
+    if (r > 0)
+      {
+        double c_max = 0.;
+        for (unsigned int i = 0; i < m; ++i)
+          for (unsigned int j = 0; j < r; ++j)
+            c_max = std::max(c_max, std::abs(C(i, j)));
+        // S y ~ d for y ~ |h| / |C|: the penalty of the same size
+        rho = scale / (std::max(h.l2_norm(), 1e-300) * c_max);
+      }
+    // the linear term of the augmented dual energy
+    Vector<double> d_augmented(d);
+    const auto     update_linear_term = [&]() {
+      Vector<double> shift(r);
+      for (unsigned int j = 0; j < r; ++j)
+        shift[j] = -mu[j] + rho * h[j];
+      d_augmented = d;
+      if (r > 0)
+        C.vmult_add(d_augmented, shift);
+    };
+    update_linear_term();
+    Vector<double> g(d_augmented); // g = (S + rho C C^T) y - d_augmented
+    g *= -1.;
 
     std::map<unsigned int, Vector<double>> columns; // S e_i
     // S e_i, formed on first use; nullptr once "Maximum columns" is reached
-    const auto column = [&](const unsigned int i) -> const Vector<double> * {
+    const auto dual_column =
+      [&](const unsigned int i) -> const Vector<double> * {
       auto it = columns.find(i);
       if (it == columns.end())
         {
@@ -92,8 +128,81 @@ namespace Signorini
         }
       return &it->second;
     };
+    // column i of the augmented Hessian S + rho C C^T
+    Vector<double> column(m);
+    const auto     augmented_column = [&](const unsigned int i) -> bool {
+      const Vector<double> *s = dual_column(i);
+      if (s == nullptr)
+        return false;
+      column = *s;
+      if (r > 0)
+        {
+          Vector<double> c_i(r);
+          for (unsigned int j = 0; j < r; ++j)
+            c_i[j] = rho * C(i, j);
+          C.vmult_add(column, c_i);
+        }
+      return true;
+    };
+    // C^T y - h
+    const auto rigid_imbalance = [&]() {
+      Vector<double> imbalance(r);
+      if (r > 0)
+        {
+          C.Tvmult(imbalance, y);
+          imbalance -= h;
+        }
+      return imbalance;
+    };
 
-    for (report.iterations = 0; report.iterations < max_iterations;
+    // The multiplier update: Newton's step on C^T y(mu) = h with the
+    // support A of y fixed, where y_A = H_AA^{-1} d_augmented_A(mu), i.e.
+    // mu += (C_A^T H_AA^{-1} C_A)^{-1} (C^T y - h); the classical step
+    // rho (C^T y - h) of the method of multipliers converges linearly
+    // with a rate close to one here (a factor 0.87 per update measured).
+    const auto multiplier_step = [&](const Vector<double> &imbalance) {
+      std::vector<unsigned int> support;
+      for (unsigned int i = 0; i < m; ++i)
+        if (y[i] > 0.)
+          support.push_back(i);
+      Vector<double> step(imbalance);
+      step *= rho;
+      const unsigned int n = support.size();
+      if (n == 0)
+        return step;
+      LAPACKFullMatrix<double> H(n, n);
+      for (unsigned int b = 0; b < n; ++b)
+        {
+          augmented_column(support[b]); // formed when it entered
+          for (unsigned int a = 0; a < n; ++a)
+            H(a, b) = column[support[a]];
+        }
+      H.compute_lu_factorization();
+      FullMatrix<double> jacobian(r, r);
+      for (unsigned int k = 0; k < r; ++k)
+        {
+          Vector<double> x(n);
+          for (unsigned int a = 0; a < n; ++a)
+            x[a] = C(support[a], k);
+          H.solve(x);
+          for (unsigned int j = 0; j < r; ++j)
+            for (unsigned int a = 0; a < n; ++a)
+              jacobian(j, k) += C(support[a], j) * x[a];
+        }
+      // (singular when the support does not stop the free motions: keep
+      // the classical step then)
+      LAPACKFullMatrix<double> J(r, r);
+      J = jacobian;
+      J.compute_svd();
+      if (J.singular_value(r - 1) <= 1e-12 * J.singular_value(0))
+        return step;
+      J.compute_inverse_svd();
+      J.vmult(step, imbalance);
+      return step;
+    };
+
+    bool capped = false;
+    for (report.iterations = 0; report.iterations < max_iterations && !capped;
          ++report.iterations)
       {
         // Linear subproblem over the cone and the away atom.
@@ -114,8 +223,20 @@ namespace Signorini
         report.residual = kkt / scale;
         if (report.residual <= tolerance)
           {
-            report.converged = true;
-            break;
+            // converged for this mu: done if the load is balanced on the
+            // free rigid motions, else update the multiplier
+            const Vector<double> imbalance = rigid_imbalance();
+            if (r == 0 || imbalance.l2_norm() <=
+                            tolerance * std::max(h.l2_norm(), 1e-300))
+              {
+                report.converged = true;
+                break;
+              }
+            const Vector<double> step = multiplier_step(imbalance);
+            mu += step;
+            C.vmult_add(g, step); // g = H y - d_augmented(mu)
+            update_linear_term();
+            continue;
           }
 
         // Descent rate per unit length of each candidate direction.
@@ -127,18 +248,19 @@ namespace Signorini
 
         if (ray_rate >= away_rate && ray_rate >= apex_rate)
           {
-            const Vector<double> *column_ray = column(ray);
-            if (column_ray == nullptr)
-              break; // capped: report the residual reached
-            const Vector<double> &s = *column_ray;
-            const double          t = -g[ray] / s[ray];
+            if (!augmented_column(ray))
+              {
+                capped = true; // report the residual reached
+                break;
+              }
+            const double t = -g[ray] / column[ray];
             y[ray] += t;
-            g.add(t, s);
+            g.add(t, column);
           }
         else if (away_rate >= apex_rate)
           {
-            const Vector<double> &s = *column(away); // formed when it entered
-            double                t = g[away] / s[away];
+            augmented_column(away); // formed when it entered
+            double t = g[away] / column[away];
             if (t >= y[away])
               {
                 t       = y[away];
@@ -146,22 +268,29 @@ namespace Signorini
               }
             else
               y[away] -= t;
-            g.add(-t, s);
+            g.add(-t, column);
           }
         else
           {
-            // towards the apex: direction -y; S y = g + d
-            Vector<double> Sy(g);
-            Sy += d;
-            const double t = std::min(1., (g * y) / (Sy * y));
+            // towards the apex: direction -y; H y = g + d_augmented
+            Vector<double> Hy(g);
+            Hy += d_augmented;
+            const double t = std::min(1., (g * y) / (Hy * y));
             y *= (1. - t);
-            g.sadd(1. - t, -t, d);
+            g.sadd(1. - t, -t, d_augmented);
           }
       }
 
-    // Displacement of the final multipliers.
+    // Displacement of the final multipliers, plus the rigid motion -mu
+    // that the supports held back.
     report.linear_iterations += problem.solve_with_dual(y, u);
     ++report.linear_solves;
+    if (r > 0)
+      {
+        Vector<double> c(mu);
+        c *= -1.;
+        problem.add_rigid_motion(c, u);
+      }
     return report;
   }
 

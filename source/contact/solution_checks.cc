@@ -2,8 +2,31 @@
 
 #include <signorini/contact/solution_checks.h>
 
+#include <cmath>
+
 namespace Signorini
 {
+  std::pair<std::string, double>
+  SolutionChecks::largest() const
+  {
+    std::pair<std::string, double> worst{"", -1.};
+    for (const auto &[name, value] :
+         {std::make_pair("feasibility", feasibility),
+          std::make_pair("multiplier sign", multiplier_sign),
+          std::make_pair("complementarity", complementarity),
+          std::make_pair("residual", residual),
+          std::make_pair("resultant", resultant)})
+      {
+        if (std::isnan(value))
+          return {name, value};
+        if (value > worst.second)
+          worst = {name, value};
+      }
+    return worst;
+  }
+
+
+
   template <int dim>
   SolutionChecks
   check_solution(const DiscreteContactProblem<dim> &problem,

@@ -499,26 +499,28 @@ namespace Signorini
             data.kind              = FaceKind::loaded;
             data.unknown_component = {{false, false}};
             const auto id          = face->boundary_id();
-            if (const auto dirichlet = bc.dirichlet_part(id))
-              for (unsigned int c = 0; c < dim; ++c)
-                if (dirichlet->mask[c])
-                  {
-                    data.kind                 = FaceKind::dirichlet;
-                    data.unknown_component[c] = true;
-                  }
+            // all the parts naming the id: the union of their Dirichlet
+            // components, the sum of their tractions
+            const ComponentMask fixed = bc.dirichlet_mask(id);
+            for (unsigned int c = 0; c < dim; ++c)
+              if (fixed[c])
+                {
+                  data.kind                 = FaceKind::dirichlet;
+                  data.unknown_component[c] = true;
+                }
             // cell-local numbers of the face vertices
             std::array<unsigned int, 2> local_vertex;
             for (unsigned int k = 0; k < 2; ++k)
               for (const unsigned int w : cell->vertex_indices())
                 if (cell->vertex_index(w) == data.vertices[k])
                   local_vertex[k] = w;
-            if (const auto part = bc.traction_part(id))
+            if (bc.has_traction(id))
               {
                 fe_face_values.reinit(cell, f);
-                std::vector<Vector<double>> traction(face_quadrature.size(),
-                                                     Vector<double>(dim));
-                part->traction->vector_value_list(
-                  fe_face_values.get_quadrature_points(), traction);
+                std::vector<Vector<double>> traction;
+                bc.traction_values(id,
+                                   fe_face_values.get_quadrature_points(),
+                                   traction);
                 for (unsigned int k = 0; k < 2; ++k)
                   for (unsigned int c = 0; c < dim; ++c)
                     {

@@ -444,7 +444,8 @@ namespace Signorini
     const auto          &contact = input.contact_boundary;
     const Tensor<1, dim> nu_c    = contact.direction();
 
-    std::vector<BoundaryEdge> edges(triangulation.n_raw_faces());
+    std::vector<BoundaryEdge>   edges(triangulation.n_raw_faces());
+    std::vector<Vector<double>> traction;
     for (const auto &cell : triangulation.active_cell_iterators())
       if (needed[cell->active_cell_index()])
         for (const unsigned int f : cell->face_indices())
@@ -459,23 +460,28 @@ namespace Signorini
             edge.length       = face->measure();
             edge.first_vertex = face->vertex_index(0);
             const auto id     = face->boundary_id();
-            if (const auto dirichlet = bc.dirichlet_part(id))
-              for (unsigned int c = 0; c < 2; ++c)
-                edge.fixed[c] = dirichlet->mask[c];
-            const auto traction   = bc.traction_part(id);
-            const bool loaded     = traction != nullptr;
+            // all the parts naming the id: the union of their Dirichlet
+            // components, the sum of their tractions
+            const ComponentMask fixed = bc.dirichlet_mask(id);
+            for (unsigned int c = 0; c < 2; ++c)
+              edge.fixed[c] = fixed[c];
+            const bool loaded     = bc.has_traction(id);
             const bool in_contact = contact.boundary_ids().count(id) != 0;
             if (!loaded && !in_contact)
               continue;
             edge.load.assign(edge_rule.size(), Tensor<1, 2>());
-            const Point<2> a = face->vertex(0), b = face->vertex(1);
+            const Point<2>        a = face->vertex(0), b = face->vertex(1);
+            std::vector<Point<2>> points(edge_rule.size());
+            for (unsigned int q = 0; q < edge_rule.size(); ++q)
+              points[q] = a + edge_rule.point(q)[0] * (b - a);
+            if (loaded)
+              bc.traction_values(id, points, traction);
             for (unsigned int q = 0; q < edge_rule.size(); ++q)
               {
                 const double s = edge_rule.point(q)[0];
                 if (loaded)
                   for (unsigned int c = 0; c < 2; ++c)
-                    edge.load[q][c] +=
-                      traction->traction->value(a + s * (b - a), c);
+                    edge.load[q][c] += traction[q][c];
                 if (in_contact)
                   {
                     // R^ = R^_n nu_c, linear on the edge

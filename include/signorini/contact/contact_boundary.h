@@ -57,7 +57,8 @@ namespace Signorini
 
     /**
      * Collect the nodes of GC on the current mesh and build M, G and ghat.
-     * Throws if a node of GC is a hanging node (not supported on GC).
+     * Throws if a node of GC is a hanging node (not supported on GC), and
+     * checks the contact data on this mesh (check_data()).
      */
     void
     reinit(const Mapping<dim>              &mapping,
@@ -121,6 +122,19 @@ namespace Signorini
     n_contact_cells() const;
 
   private:
+    /**
+     * Called by reinit() once G and ghat are built: refuse a gap that is
+     * not finite at the nodes or at the face quadrature points where it is
+     * evaluated, and warn on screen (rank 0, once per run) if nu_c is nearly
+     * tangent to GC or points into the body at some face, or if the gap is
+     * negative at some node (initial penetration). These are warnings, not
+     * errors: a curved GC may well turn away from a fixed nu_c far from
+     * where contact occurs.
+     */
+    void
+    check_data(const Mapping<dim>    &mapping,
+               const DoFHandler<dim> &dof_handler) const;
+
     std::set<types::boundary_id>                    ids;
     std::string                                     direction_text;
     std::unique_ptr<Functions::ParsedFunction<dim>> gap_function;

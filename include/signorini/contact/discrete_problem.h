@@ -6,6 +6,7 @@
 
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/rigid_motions.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
 
@@ -24,6 +25,16 @@ namespace Signorini
    * with optimality conditions K u + B^T y = F, y >= 0, B u <= b,
    * y^T (B u - b) = 0. B and b come from the ContactCondition; K and F are
    * unconstrained (raw) so that residuals are true nodal forces.
+   *
+   * When the Dirichlet data leave rigid motions N free (RigidMotions), K is
+   * singular on them and only the contact holds the body: the problem has a
+   * unique solution when C = B N stops every free motion and the rigid load
+   * h = N^T F lies inside the cone of the rows of C (the load presses the
+   * body onto the foundation); check_rigid_motions() tests both. Solves
+   * that need an invertible operator whatever the active set (the dual
+   * ones) then fix one support dof per free motion: K_s^{-1} is a
+   * generalised inverse of K on the loads the free motions do not see, and
+   * the dual solution must satisfy C^T y = h (see FrankWolfeSolver).
    */
   template <int dim>
   class DiscreteContactProblem
@@ -37,7 +48,42 @@ namespace Signorini
       const AffineConstraints<double> &hanging_node_constraints,
       const ContactBoundary<dim>      &boundary,
       const ContactCondition<dim>     &condition,
+      const RigidMotions<dim>         &rigid_motions,
       ElasticitySolver                &linear_solver);
+
+    /// Number of rigid motions the Dirichlet data leave free.
+    unsigned int
+    n_rigid_motions() const;
+
+    /**
+     * Throw an InputError naming the motion when a free rigid motion is not
+     * stopped by the contact, or when the load does not press the body onto
+     * the foundation (a free motion that lifts it off or slides it does no
+     * negative work): then no (unique) equilibrium exists.
+     */
+    void
+    check_rigid_motions() const;
+
+    /// Whether the rows @p active of B alone stop every free rigid motion.
+    bool
+    blocks_rigid_motions(const std::vector<bool> &active) const;
+
+    /// C = B N (one column per free motion).
+    const FullMatrix<double> &
+    rigid_constraint_rows() const;
+
+    /// h = N^T F: the load's work on each free motion.
+    const Vector<double> &
+    rigid_load() const;
+
+    /// The normal components nu_c . N_j at every node of GC (one column per
+    /// free motion).
+    FullMatrix<double>
+    rigid_normal_components() const;
+
+    /// u += N c.
+    void
+    add_rigid_motion(const Vector<double> &c, LA::Vector &u) const;
 
     unsigned int
     n_constraints() const;
@@ -71,20 +117,20 @@ namespace Signorini
     update_preconditioner(const std::vector<bool> &active) const;
 
     /// Solve K u = F + sum_k forces_k nu_c (at node k of GC) under the base
-    /// constraints.
+    /// constraints (and the supports of the free rigid motions).
     unsigned int
     solve_with_normal_forces(const Vector<double> &forces,
                              LA::Vector           &u,
                              const double relative_tolerance = 0.) const;
 
-    /// Solve K u = F - B^T y under the base constraints.
+    /// Solve K u = F - B^T y under the base constraints (and the supports).
     unsigned int
     solve_with_dual(const Vector<double> &y,
                     LA::Vector           &u,
                     const double          relative_tolerance = 0.) const;
 
     /// Column i of the dual operator S = B K^{-1} B^T (homogeneous base
-    /// constraints). Returns the CG iterations.
+    /// constraints, K_s with supports). Returns the CG iterations.
     unsigned int
     dual_operator_column(const unsigned int i, Vector<double> &column) const;
 
@@ -129,7 +175,13 @@ namespace Signorini
     const AffineConstraints<double> &hanging_node_constraints;
     const ContactBoundary<dim>      &contact_boundary;
     const ContactCondition<dim>     &contact_condition;
+    const RigidMotions<dim>         &rigid_motions;
     ElasticitySolver                &linear_solver;
+    /// The base constraints plus u_s = 0 at the supports (if any).
+    AffineConstraints<double> supported_constraints;
+    AffineConstraints<double> homogeneous_supported_constraints;
+    FullMatrix<double>        rigid_rows;
+    Vector<double>            rigid_load_vector;
   };
 } // namespace Signorini
 

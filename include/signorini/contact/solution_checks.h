@@ -7,6 +7,8 @@
 
 #include <signorini/contact/discrete_problem.h>
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace Signorini
@@ -31,6 +33,10 @@ namespace Signorini
     double complementarity = 0.;
     double residual        = 0.;
     double resultant       = 0.;
+
+    /// The largest check and its name (a NaN check counts as the largest).
+    std::pair<std::string, double>
+    largest() const;
   };
 
   /**
