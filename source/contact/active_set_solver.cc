@@ -10,31 +10,35 @@ namespace Signorini
   {
     /**
      * An active set that lets a free rigid motion move gives a singular
-     * system. Keep the rows of @p active with the largest dual values
-     * (the last ones to leave) in @p next until the free motions are
-     * stopped.
+     * system. Add rows to @p active in the order @p candidates until the
+     * free motions are stopped.
      */
     template <int dim>
     void
-    keep_rigid_motions_blocked(const DiscreteContactProblem<dim> &problem,
-                               const std::vector<bool>           &active,
-                               const Vector<double>              &y,
-                               std::vector<bool>                 &next)
+    stop_rigid_motions(const DiscreteContactProblem<dim> &problem,
+                       const std::vector<unsigned int>   &candidates,
+                       std::vector<bool>                 &active)
     {
-      std::vector<unsigned int> rows(active.size());
+      for (const unsigned int i : candidates)
+        {
+          if (problem.blocks_rigid_motions(active))
+            return;
+          active[i] = true;
+        }
+    }
+
+    /// The rows ordered by decreasing @p key.
+    std::vector<unsigned int>
+    rows_by_decreasing(const std::vector<double> &key)
+    {
+      std::vector<unsigned int> rows(key.size());
       std::iota(rows.begin(), rows.end(), 0u);
       std::stable_sort(rows.begin(),
                        rows.end(),
                        [&](const unsigned int a, const unsigned int b) {
-                         return (active[a] ? y[a] : -1e300) >
-                                (active[b] ? y[b] : -1e300);
+                         return key[a] > key[b];
                        });
-      for (const unsigned int i : rows)
-        {
-          if (problem.blocks_rigid_motions(next))
-            return;
-          next[i] = true;
-        }
+      return rows;
     }
   } // namespace
 
@@ -103,14 +107,20 @@ namespace Signorini
     // Without a guess the first step (empty active set) is the
     // unconstrained problem. A body held only by the contact has no
     // unconstrained problem: every active set must stop its free rigid
-    // motions (check_rigid_motions() made sure the whole zone does), so it
-    // starts in full contact.
-    const bool        floating = (problem.n_rigid_motions() > 0);
-    std::vector<bool> active   = (initial_active.size() == m) ?
-                                   initial_active :
-                                   std::vector<bool>(m, floating);
+    // motions (check_rigid_motions() made sure the whole zone can), so it
+    // starts with the rows closest to contact (smallest bound per unit of
+    // row weight) that stop them.
+    std::vector<bool> active = (initial_active.size() == m) ?
+                                 initial_active :
+                                 std::vector<bool>(m, false);
     if (!problem.blocks_rigid_motions(active))
-      active.assign(m, true);
+      {
+        std::vector<double> closeness(m);
+        for (unsigned int i = 0; i < m; ++i)
+          closeness[i] =
+            -problem.bounds()[i] / problem.condition().row_weight(i);
+        stop_rigid_motions(problem, rows_by_decreasing(closeness), active);
+      }
     std::set<std::vector<bool>> visited{active};
     // (without constraints the first solve is the last: make it exact)
     bool              exact = (inexact_tolerance == 0. || m == 0);
@@ -147,8 +157,15 @@ namespace Signorini
         std::vector<bool>    next(m);
         for (unsigned int i = 0; i < m; ++i)
           next[i] = active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
+        // (keeping the rows with the largest multipliers, the last to leave)
         if (!problem.blocks_rigid_motions(next))
-          keep_rigid_motions_blocked(problem, active, y, next);
+          {
+            std::vector<double> multiplier(m, -1e300);
+            for (unsigned int i = 0; i < m; ++i)
+              if (active[i])
+                multiplier[i] = y[i];
+            stop_rigid_motions(problem, rows_by_decreasing(multiplier), next);
+          }
 
         if (next == active)
           {
