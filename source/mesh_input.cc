@@ -1,10 +1,10 @@
 #include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
 
+#include <signorini/gmsh_file_check.h>
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
 
-#include <fstream>
 #include <sstream>
 
 namespace Signorini
@@ -127,27 +127,40 @@ namespace Signorini
       {
         const std::string path =
           (file_name[0] == '/') ? file_name : input_directory + "/" + file_name;
-        std::ifstream in(path);
-        if (!in)
-          throw InputError("Mesh/File name: cannot open mesh file <" + path +
-                           ">");
-        GridIn<dim> grid_in;
-        grid_in.attach_triangulation(triangulation);
-        try
+        if constexpr (dim == 2)
           {
-            grid_in.read_msh(in);
+            // The file is checked by a strict parser first: deal.II's reader
+            // trusts it and crashes, hangs or allocates without bound on a
+            // corrupted one, and it would accept degenerate triangles and
+            // nodes at the same point, which only fail in the solver.
+            GmshTriangleMesh mesh;
+            try
+              {
+                mesh = read_gmsh_file(path);
+              }
+            catch (const InputError &exc)
+              {
+                throw InputError(std::string("Mesh/File name: ") + exc.what());
+              }
+            // as GridIn::read_msh() does: clockwise triangles are turned
+            GridTools::invert_cells_with_negative_measure(mesh.vertices,
+                                                          mesh.cells);
+            try
+              {
+                triangulation.create_triangulation(mesh.vertices,
+                                                   mesh.cells,
+                                                   mesh.boundary);
+              }
+            catch (const ExceptionBase &exc)
+              {
+                std::ostringstream text;
+                exc.print_info(text);
+                throw InputError("Mesh/File name: cannot build a mesh from <" +
+                                 path + ">: " + one_line_message(text.str()));
+              }
           }
-        catch (const ExceptionBase &exc)
-          {
-            std::ostringstream text;
-            exc.print_info(text);
-            throw InputError("Mesh/File name: cannot read mesh file <" + path +
-                             ">: " + one_line_message(text.str()));
-          }
-        if (triangulation.n_active_cells() == 0 ||
-            !triangulation.all_reference_cells_are_simplex())
-          throw InputError("Mesh/File name: <" + path +
-                           "> must contain triangles only");
+        else
+          throw InputError("Mesh/Source = file is only implemented in 2D");
       }
     triangulation.refine_global(initial_refinements);
   }

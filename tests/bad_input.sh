@@ -132,6 +132,214 @@ check "missing parameter file" "no-such-file.prm" "$work/no-such-file.prm"
 
 # --- meshes: malformed and degenerate Gmsh files ---
 
+# tests/meshes/square-22.msh and square-41.msh (from square.geo) are the unit
+# square with the block's boundary ids: valid, then corrupted one way each.
+msh22=$src/tests/meshes/square-22.msh
+msh41=$src/tests/meshes/square-41.msh
+
+# mesh_prm FILE: the Mesh subsection reading FILE
+mesh_prm() {
+  printf 'subsection Mesh\n  set Source    = file\n  set File name = %s\nend' "$1"
+}
+# mesh_case NAME EXPECTED FILE: reading FILE is an input error
+mesh_case() {
+  case_prm "$1" "$2" "$(mesh_prm "$3")"
+}
+# valid_prm NAME ARGS... PRM: signorini ARGS PRM exits 0 without a word on
+# stderr
+valid_prm() {
+  local name=$1
+  shift
+  count=$((count + 1))
+  "$exe" "$@" > "$work/stdout" 2> "$work/stderr"
+  local code=$?
+  if [ "$code" -ne 0 ] || [ -s "$work/stderr" ]; then
+    echo "FAIL $name (exit $code):"
+    cat "$work/stderr"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(grep -E ': valid$' "$work/stdout" || echo 'exit 0')"
+  fi
+}
+# mesh_ok NAME FILE: --validate accepts the block example on FILE
+mesh_ok() {
+  { cat "$src/prm/block.prm"; mesh_prm "$2"; echo
+    printf 'set Output directory = %s/out\n' "$work"; } > "$work/case.prm"
+  valid_prm "$1" --validate "$work/case.prm"
+}
+
+mesh_ok "Gmsh 2.2 mesh" "$msh22"
+mesh_ok "Gmsh 4.1 mesh" "$msh41"
+awk '$2 == 2 && NF == 8 { t = $7; $7 = $8; $8 = t } { print }' "$msh22" \
+  > "$work/clockwise.msh"
+mesh_ok "clockwise triangles" "$work/clockwise.msh"
+sed 's/^12$/13/; s/^\$EndNodes$/13 3 3 0\n$EndNodes/' "$msh22" > "$work/unused.msh"
+mesh_ok "a node no triangle uses" "$work/unused.msh"
+sed 's/$/\r/; 3a $Comments\r\nwritten on Windows\r\n$EndComments\r' "$msh41" \
+  > "$work/crlf.msh"
+mesh_ok "CRLF line ends, a comment section" "$work/crlf.msh"
+sed '3a $PhysicalNames\n1\n1 2 "contact zone"\n$EndPhysicalNames' "$msh22" \
+  > "$work/names.msh"
+mesh_ok "physical names" "$work/names.msh"
+{ cat "$src/prm/block.prm"; mesh_prm "$msh41"; echo
+  printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
+  printf 'subsection Output\n  set Write vtu = false\nend\n'; } > "$work/case.prm"
+valid_prm "a computation on the Gmsh 4.1 mesh" "$work/case.prm"
+
+# not a usable file
+printf '$MeshFormat\n4.1 1 8\n\001\000\000\000\n$EndMeshFormat\n' > "$work/binary.msh"
+mesh_case "binary Gmsh file" "is a binary Gmsh file; save it as ASCII" "$work/binary.msh"
+: > "$work/empty.msh"
+mesh_case "empty mesh file" "empty.msh> is empty" "$work/empty.msh"
+mesh_case "mesh file is a directory" "it is a directory" "$work"
+mesh_case "mesh file /dev/zero (endless)" "it is not a regular file" /dev/zero
+sed '2s/^2.2 /3.0 /' "$msh22" > "$work/v3.msh"
+mesh_case "msh 3" "version <3.0> is not supported" "$work/v3.msh"
+
+# structure: counts, sections, numbers (deal.II's reader crashed, aborted or
+# hung on the first ones)
+sed '2s/^2.2 /4.1 /' "$msh22" > "$work/mixed.msh"
+mesh_case "2.2 body under a 4.1 header" 'line 5: the header of $Nodes' "$work/mixed.msh"
+sed '5s/^12$/14/' "$msh22" > "$work/more-nodes.msh"
+mesh_case "2.2: node count too large" 'found <$EndNodes> where node 13 of 14' "$work/more-nodes.msh"
+sed '5s/^12$/11/' "$msh22" > "$work/fewer-nodes.msh"
+mesh_case "2.2: node count too small" 'line 17: expected $EndNodes, found <12 ' "$work/fewer-nodes.msh"
+sed 's/^13 12 1 12$/13 14 1 12/' "$msh41" > "$work/more-nodes41.msh"
+mesh_case "4.1: node count too large" '$Nodes announces 14 nodes, its blocks hold 12' "$work/more-nodes41.msh"
+sed 's/^2 1 0 4$/2 1 0 3/' "$msh41" > "$work/short-block.msh"
+mesh_case "4.1: node block count too small" "coordinates of node 9 " "$work/short-block.msh"
+sed 's/^7 22 1 22$/8 22 1 22/' "$msh41" > "$work/more-blocks.msh"
+mesh_case "4.1: element block count too large" \
+  'found <$EndElements> where the header of element block 8 of 8' "$work/more-blocks.msh"
+sed 's/^7 22 1 22$/6 22 1 22/' "$msh41" > "$work/fewer-blocks.msh"
+mesh_case "4.1: element block count too small" \
+  '$Elements announces 22 elements, its blocks hold 8' "$work/fewer-blocks.msh"
+sed 's/^13 12 1 12$/13 -12 1 12/' "$msh41" > "$work/negative.msh"
+mesh_case "negative node count" "number of nodes -12 is below 0" "$work/negative.msh"
+sed '5s/^12$/1000000000000/' "$msh22" > "$work/huge.msh"
+mesh_case "node count 1e12" "node 13 of 1000000000000 was expected" "$work/huge.msh"
+sed 's/^2 1 0 4$/2 1 0 1000000000000/' "$msh41" > "$work/huge-block.msh"
+mesh_case "node block of 1e12 nodes" \
+  'node block 13 of 13 has 1000000000000 nodes, but $Nodes announces 12' "$work/huge-block.msh"
+sed 's/^9 0.2937499999998369 /9 0.29x /' "$msh22" > "$work/letters.msh"
+mesh_case "non-numeric coordinate" "line 14: coordinate of node 9 <0.29x> is not a finite number" \
+  "$work/letters.msh"
+sed 's/^9 0.2937499999998369 /9 nan /' "$msh22" > "$work/nan.msh"
+mesh_case "NaN coordinate" "coordinate of node 9 <nan> is not a finite number" "$work/nan.msh"
+sed 's/^22 2 2 1 1 8 9 11$/22 2 2 1 1 8 9 99/' "$msh22" > "$work/missing-node.msh"
+mesh_case "element on a missing node" "line 42: element 22 refers to node 99, which is not in" \
+  "$work/missing-node.msh"
+head -n 70 "$msh41" > "$work/truncated.msh"
+mesh_case "truncated between lines" 'line 70: the file ends where the header of element block 5 of 7' \
+  "$work/truncated.msh"
+head -c 1000 "$msh41" > "$work/truncated-in-line.msh"
+mesh_case "truncated inside a line" "cannot read mesh file" "$work/truncated-in-line.msh"
+sed '/^\$EndNodes$/d' "$msh22" > "$work/no-end.msh"
+mesh_case "section not closed" 'expected $EndNodes, found <$Elements>' "$work/no-end.msh"
+sed '3a $PhysicalNames\n1\n1 2 "contact zone"' "$msh22" > "$work/names-open.msh"
+mesh_case "unclosed \$PhysicalNames (deal.II hung)" \
+  'expected $EndPhysicalNames, found <$Nodes>' "$work/names-open.msh"
+sed 's/^0 1 0 1$/0 1 1 1/' "$msh41" > "$work/parametric.msh"
+mesh_case "parametric nodes" "has parametric coordinates" "$work/parametric.msh"
+sed 's/^1 1 1 2$/1 9 1 2/' "$msh41" > "$work/entity.msh"
+mesh_case "element block on an undeclared curve" "refers to entity 9 of dimension 1, which is not in" \
+  "$work/entity.msh"
+sed 's/^1 0 0 0 1 0 0 1 2 2 1 -2 $/1 0 0 0 1 0 0 2 2 7 2 1 -2/' "$msh41" > "$work/two-groups.msh"
+mesh_case "curve in two physical groups" "curve 1 belongs to 2 physical groups" "$work/two-groups.msh"
+
+# element types
+sed 's/^9 2 2 1 1 5 6 11$/9 3 2 1 1 5 6 11 12/' "$msh22" > "$work/quad.msh"
+mesh_case "quadrilateral" "line 29: quadrilateral elements (type 3) are not supported" "$work/quad.msh"
+sed 's/^9 2 2 1 1 5 6 11$/9 4 2 1 1 5 6 11 12/' "$msh22" > "$work/tet.msh"
+mesh_case "tetrahedron" "3D elements (type 4) are not supported" "$work/tet.msh"
+sed 's/^9 2 2 1 1 5 6 11$/9 9 2 1 1 5 6 11 1 2 3/' "$msh22" > "$work/tri6.msh"
+mesh_case "6-node triangle" "high-order elements (type 9)" "$work/tri6.msh"
+sed '/^[0-9]* 2 2 1 1 /d; s/^22$/8/' "$msh22" > "$work/lines.msh"
+mesh_case "lines only (1D mesh)" "contains no triangles" "$work/lines.msh"
+
+# degenerate meshes (--validate accepted them; the solver failed)
+sed 's/^9 0.2937499999998369 0.293750000000552 0$/9 0.25 0 0/' "$msh22" > "$work/flat.msh"
+mesh_case "zero-area triangle" "line 36: triangle 16 has zero area: its nodes 1 (0, 0), 7 (0.5, 0), 9 (0.25, 0)" \
+  "$work/flat.msh"
+sed 's/^12$/13/; s/^\$EndNodes$/13 0.499999999998694 0 0\n$EndNodes/
+     s/^16 2 2 1 1 1 7 9$/16 2 2 1 1 1 13 9/' "$msh22" > "$work/twin.msh"
+mesh_case "two nodes at one point (a crack)" "nodes 7 and 13 are at the same point (0.5, 0)" \
+  "$work/twin.msh"
+sed 's/^22$/23/; s/^\$EndElements$/23 2 2 1 1 8 9 11\n$EndElements/' "$msh22" > "$work/twice.msh"
+mesh_case "repeated triangle" "triangles 22 and 23 overlap" "$work/twice.msh"
+sed 's/^22$/23/; s/^\$EndElements$/23 1 2 7 1 9 11\n$EndElements/' "$msh22" > "$work/inner.msh"
+mesh_case "boundary id on an interior edge" "line element 23 (physical tag 7, nodes 9 and 11) lies inside" \
+  "$work/inner.msh"
+sed 's/^12 0.71874999999981 0.71874999999981 0$/12 0.71874999999981 0.71874999999981 0.5/' \
+  "$msh22" > "$work/warped.msh"
+mesh_case "node out of the plane" "node 12 has z = 0.5 while node 1 has z = 0" "$work/warped.msh"
+# node 5 halves the edge 2-3 of triangle 1 only: a T-junction
+cat > "$work/hanging.msh" << 'MESH'
+$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+5
+1 0 0 0
+2 2 0 0
+3 0 2 0
+4 2 2 0
+5 1 1 0
+$EndNodes
+$Elements
+3
+1 2 2 1 1 1 2 3
+2 2 2 1 1 2 4 5
+3 2 2 1 1 5 4 3
+$EndElements
+MESH
+mesh_case "hanging node" "line 10: node 5 (1, 1) lies on the edge between nodes 2 and 3" \
+  "$work/hanging.msh"
+awk '$2 == 1 && NF == 7 { $4 = 0 } { print }' "$msh22" > "$work/no-ids.msh"
+mesh_case "no boundary ids" "boundary id 1 does not exist in the mesh" "$work/no-ids.msh"
+
+# --- parameter files and numbers (B) ---
+: > "$work/empty.prm"
+check "empty parameter file" "empty.prm>: is empty" "$work/empty.prm"
+printf '# nothing\n\n   # set Young modulus = 2\n' > "$work/comments.prm"
+check "parameter file of comments" "comments.prm>: is empty (only comments)" "$work/comments.prm"
+mkdir -p "$work/dir.prm"
+check "parameter file is a directory" "dir.prm>: is a directory" "$work/dir.prm"
+check "parameter file /dev/zero" "zero>: is not a regular file" /dev/zero
+{ printf '\357\273\277'; cat "$src/prm/block.prm"
+  printf 'set Output directory = %s/out\n' "$work"; } > "$work/bom.prm"
+valid_prm "UTF-8 byte order mark" --validate "$work/bom.prm"
+case_prm "constant p=0.1x" "Traction 1: Function constants = p=0.1x: the value <0.1x> of p" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=0.1x
+  end
+end"
+case_prm "constant p=abc" "Traction 2: Function constants = p=abc: the value <abc> of p" \
+  "subsection Boundary conditions
+  subsection Traction 2
+    set Function constants = p=abc
+  end
+end"
+case_prm "constant defined twice" "Function constants = p=0.1, p=0.2: p is defined twice" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=0.1, p=0.2
+  end
+end"
+for value in 1e-400 1e-310 nan inf -inf 1e400; do
+  case_prm "Young modulus = $value" "Material/Young modulus" \
+    "subsection Material
+  set Young modulus = $value
+end"
+done
+for value in 1e-400 nan inf 1e400; do
+  case_prm "Poisson ratio = $value" "Material/Poisson ratio" \
+    "subsection Material
+  set Poisson ratio = $value
+end"
+done
+
 # --- non-finite data, parameter files, contact warnings ---
 
 # Functions are evaluated where they are used on each mesh (vertices and

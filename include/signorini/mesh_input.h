@@ -39,7 +39,9 @@ namespace Signorini
     set_input_directory(const std::string &directory);
 
     /// Fill the (empty) @p triangulation with the initial mesh, refined
-    /// "Initial refinements" times. Throws InputError for unreadable files.
+    /// "Initial refinements" times. Throws InputError for unreadable,
+    /// malformed or binary files and for degenerate meshes (see
+    /// read_gmsh_file()).
     void
     create(Triangulation<dim> &triangulation) const;
 

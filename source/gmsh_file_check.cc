@@ -1,0 +1,1277 @@
+#include <signorini/gmsh_file_check.h>
+#include <signorini/input_error.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cfloat>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+namespace Signorini
+{
+  namespace
+  {
+    /// Relative tolerance on distances: nodes closer than this times the
+    /// diameter of the mesh are one point, and a triangle whose smallest
+    /// height is below this times its longest edge is flat.
+    constexpr double distance_tolerance = 1e-10;
+
+    /// Relative tolerance on areas, times the squared diameter of the mesh.
+    constexpr double area_tolerance = 1e-12;
+
+    /// The Gmsh element types signorini reads; any other is refused.
+    enum ElementType : int
+    {
+      line_element     = 1,
+      triangle_element = 2,
+      point_element    = 15
+    };
+
+    /// A printable excerpt of a line or token of the file for a message:
+    /// bounded, on one line, without control or binary characters.
+    std::string
+    excerpt(const std::string &text)
+    {
+      const std::size_t max_length = 40;
+      std::string       result     = "<";
+      for (std::size_t i = 0; i < std::min(text.size(), max_length); ++i)
+        result += (text[i] >= 32 && text[i] < 127) ? text[i] : '?';
+      return result + (text.size() > max_length ? "...>" : ">");
+    }
+
+    /// "(x, y)" for messages.
+    std::string
+    coordinates(const std::array<double, 3> &x)
+    {
+      std::ostringstream out;
+      out << "(" << x[0] << ", " << x[1] << ")";
+      return out.str();
+    }
+
+    /// Parse the whole of @p token as a decimal integer.
+    bool
+    parse_integer(const std::string &token, long long &value)
+    {
+      const std::size_t sign =
+        (token.size() > 1 && (token[0] == '-' || token[0] == '+')) ? 1 : 0;
+      if (token.size() == sign ||
+          token.find_first_not_of("0123456789", sign) != std::string::npos)
+        return false;
+      errno     = 0;
+      char *end = nullptr;
+      value     = std::strtoll(token.c_str(), &end, 10);
+      return errno == 0 && *end == '\0';
+    }
+
+    /// Parse the whole of @p token as a finite real; an underflow is zero.
+    bool
+    parse_real(const std::string &token, double &value)
+    {
+      // also refuses nan, inf and hexadecimal floats, which strtod takes
+      if (token.empty() ||
+          token.find_first_not_of("0123456789+-.eE") != std::string::npos)
+        return false;
+      errno     = 0;
+      char *end = nullptr;
+      value     = std::strtod(token.c_str(), &end);
+      if (*end != '\0')
+        return false;
+      if (errno == ERANGE && std::abs(value) <= DBL_MIN)
+        value = 0.; // a coordinate below 1e-308 is zero
+      else if (errno != 0)
+        return false;
+      return std::isfinite(value);
+    }
+
+    /// A node of the file: its Gmsh tag, coordinates and line.
+    struct Node
+    {
+      long long             tag;
+      std::array<double, 3> x;
+      unsigned int          line;
+    };
+
+    /// A triangle or line element of the file: its Gmsh tag, line, physical
+    /// tag and nodes (indices into the list of nodes; 2 used by lines).
+    struct Element
+    {
+      long long                   tag;
+      unsigned int                line;
+      long long                   physical;
+      std::array<unsigned int, 3> nodes;
+    };
+
+    /**
+     * The strict parser. It walks through the file line by line (blank
+     * lines and $Comments sections are skipped, as deal.II does), and every
+     * record must be on one line with exactly the numbers the format asks
+     * for. Counts are only compared with the records actually present,
+     * never used to allocate memory, so a huge count cannot exhaust it.
+     */
+    class GmshParser
+    {
+    public:
+      GmshParser(const std::string &path, const std::string &text)
+        : path(path)
+        , text(text)
+      {}
+
+      /// Parse the whole file and check its geometry.
+      GmshTriangleMesh
+      parse();
+
+    private:
+      const std::string &path;
+      const std::string &text;
+
+      /// Start of the next line in text.
+      std::size_t position = 0;
+
+      /// Number (1-based) of the current line, 0 before the first.
+      unsigned int line_number = 0;
+
+      /// The current line without surrounding blanks, and its tokens.
+      std::string              line;
+      std::vector<std::string> tokens;
+
+      /// 20, 21, 22 (msh 2.x), 40 or 41.
+      int version = 0;
+
+      /// Physical tag (0 if none) of each entity (dimension, tag) declared
+      /// in $Entities.
+      std::map<std::pair<long long, long long>, long long> entities;
+
+      /// Whether the file has an $Entities section.
+      bool have_entities = false;
+
+      /// The nodes in file order, and the index of each tag among them.
+      std::vector<Node>                           nodes;
+      std::unordered_map<long long, unsigned int> node_index;
+
+      /// The triangles and the line elements, in file order.
+      std::vector<Element> triangles;
+      std::vector<Element> lines;
+
+      [[noreturn]] void
+      fail_at(const unsigned int at, const std::string &what) const
+      {
+        throw InputError("cannot read mesh file <" + path + ">: line " +
+                         std::to_string(at) + ": " + what);
+      }
+
+      [[noreturn]] void
+      fail(const std::string &what) const
+      {
+        fail_at(line_number, what);
+      }
+
+      /// A geometric defect: the file was read, the mesh is unusable.
+      [[noreturn]] void
+      reject_at(const unsigned int at, const std::string &what) const
+      {
+        throw InputError("<" + path + ">: line " + std::to_string(at) + ": " +
+                         what);
+      }
+
+      /// Move to the next non-blank line; false at the end of the file.
+      bool
+      next_raw_line();
+
+      /// Move to the next line that is neither blank nor in a $Comments
+      /// section and split it; false at the end of the file.
+      bool
+      advance();
+
+      /// Move to the next line, which must exist: @p expected says what the
+      /// format asks for there (for the message about a truncated file).
+      void
+      next(const std::string &expected);
+
+      /// Move to the next line, which must be the record @p what (not a
+      /// section marker: then a count said more records than there are).
+      void
+      record(const std::string &what);
+
+      /// The next line must be exactly @p marker.
+      void
+      expect_marker(const std::string &marker);
+
+      /// The current line must have exactly @p n tokens.
+      void
+      expect_tokens(const std::size_t n, const std::string &what) const;
+
+      /// Token @p i of the current line as an integer in [min, max].
+      long long
+      integer(const std::size_t  i,
+              const std::string &what,
+              const long long    min = LLONG_MIN,
+              const long long    max = LLONG_MAX) const;
+
+      /// Token 0 of the current line as the tag of a @p kind ("node" or
+      /// "element"), in the range [@p min, @p max] of the section header.
+      long long
+      tag_in_range(const std::string &kind,
+                   const long long    min,
+                   const long long    max) const;
+
+      /// Token @p i of the current line as a finite real.
+      double
+      real(const std::size_t i, const std::string &what) const;
+
+      void
+      parse_header();
+
+      void
+      parse_physical_names();
+
+      void
+      parse_entities();
+
+      void
+      parse_nodes();
+
+      void
+      parse_elements();
+
+      /// Skip a section this reader does not use, checking it is closed.
+      void
+      skip_section();
+
+      /// Store a node of tag @p tag whose coordinates are the tokens of the
+      /// current line from @p first on.
+      void
+      add_node(const long long tag, const std::size_t first);
+
+      /// Store an element of @p type whose tag is token 0 of the current
+      /// line and whose nodes are its tokens from @p first on.
+      void
+      add_element(const long long   type,
+                  const long long   physical,
+                  const std::size_t first);
+
+      /// Number of nodes of an element of the Gmsh @p type, checking the
+      /// type is one signorini reads.
+      unsigned int
+      nodes_per_element(const long long type) const;
+
+      /// The physical tag of the entity (@p dim, @p tag) of an element block
+      /// of msh 4; the entity must be declared if $Entities is present.
+      long long
+      entity_physical_tag(const long long dim, const long long tag) const;
+
+      /// The geometric checks, and the mesh.
+      GmshTriangleMesh
+      check_geometry() const;
+    };
+
+
+
+    bool
+    GmshParser::next_raw_line()
+    {
+      const char *const blanks = " \t\r\f\v";
+      while (position < text.size())
+        {
+          std::size_t end = text.find('\n', position);
+          if (end == std::string::npos)
+            end = text.size();
+          ++line_number;
+          const std::size_t begin = text.find_first_not_of(blanks, position);
+          const std::size_t last  = end > position ?
+                                      text.find_last_not_of(blanks, end - 1) :
+                                      std::string::npos;
+          position                = end + 1;
+          if (begin < end && last != std::string::npos && last >= begin)
+            {
+              line = text.substr(begin, last + 1 - begin);
+              return true;
+            }
+        }
+      return false;
+    }
+
+
+
+    bool
+    GmshParser::advance()
+    {
+      if (!next_raw_line())
+        return false;
+      while (line == "$Comments")
+        {
+          // deal.II drops comment sections wherever they are
+          const unsigned int start = line_number;
+          do
+            if (!next_raw_line())
+              fail_at(start, "$Comments is not closed by $EndComments");
+          while (line != "$EndComments");
+          if (!next_raw_line())
+            return false;
+        }
+      tokens.clear();
+      std::size_t begin = 0;
+      while ((begin = line.find_first_not_of(" \t\r\f\v", begin)) !=
+             std::string::npos)
+        {
+          const std::size_t end = line.find_first_of(" \t\r\f\v", begin);
+          tokens.push_back(line.substr(begin, end - begin));
+          begin = end;
+        }
+      return true;
+    }
+
+
+
+    void
+    GmshParser::next(const std::string &expected)
+    {
+      if (!advance())
+        fail("the file ends where " + expected +
+             " was expected (is it truncated?)");
+    }
+
+
+
+    void
+    GmshParser::record(const std::string &what)
+    {
+      next(what);
+      if (line[0] == '$')
+        fail("found " + excerpt(line) + " where " + what +
+             " was expected (a count in the file is larger than the number "
+             "of records present)");
+    }
+
+
+
+    void
+    GmshParser::expect_marker(const std::string &marker)
+    {
+      next(marker);
+      if (line != marker)
+        fail("expected " + marker + ", found " + excerpt(line) +
+             (line[0] == '$' ? std::string() :
+                               " (a count in the file is smaller than the "
+                               "number of records present?)"));
+    }
+
+
+
+    void
+    GmshParser::expect_tokens(const std::size_t  n,
+                              const std::string &what) const
+    {
+      if (tokens.size() != n)
+        fail(what + " " + excerpt(line) + " has " +
+             std::to_string(tokens.size()) +
+             (tokens.size() == 1 ? " field" : " fields") + ", expected " +
+             std::to_string(n));
+    }
+
+
+
+    long long
+    GmshParser::integer(const std::size_t  i,
+                        const std::string &what,
+                        const long long    min,
+                        const long long    max) const
+    {
+      if (i >= tokens.size())
+        fail("missing " + what + " in " + excerpt(line));
+      long long value = 0;
+      if (!parse_integer(tokens[i], value))
+        fail(what + " " + excerpt(tokens[i]) + " is not an integer");
+      if (value < min)
+        fail(what + " " + tokens[i] + " is below " + std::to_string(min));
+      if (value > max)
+        fail(what + " " + tokens[i] + " is above " + std::to_string(max));
+      return value;
+    }
+
+
+
+    long long
+    GmshParser::tag_in_range(const std::string &kind,
+                             const long long    min,
+                             const long long    max) const
+    {
+      const long long tag = integer(0, kind + " tag", 1);
+      if (tag < min || tag > max)
+        fail(kind + " tag " + std::to_string(tag) + " is outside the range [" +
+             std::to_string(min) + ", " + std::to_string(max) +
+             "] the section header announces");
+      return tag;
+    }
+
+
+
+    double
+    GmshParser::real(const std::size_t i, const std::string &what) const
+    {
+      if (i >= tokens.size())
+        fail("missing " + what + " in " + excerpt(line));
+      double value = 0;
+      if (!parse_real(tokens[i], value))
+        fail(what + " " + excerpt(tokens[i]) + " is not a finite number");
+      return value;
+    }
+
+
+
+    void
+    GmshParser::parse_header()
+    {
+      if (!advance())
+        throw InputError("<" + path + "> is empty");
+      if (line == "$NOD")
+        fail("this is an msh 1 file; save the mesh as msh 2.2 or 4.1");
+      if (line != "$MeshFormat")
+        fail("expected $MeshFormat, found " + excerpt(line) +
+             " (is this a Gmsh mesh file?)");
+      next("the version line of $MeshFormat");
+      if (tokens.size() != 3)
+        fail("expected \"version file-type data-size\" after $MeshFormat, "
+             "found " +
+             excerpt(line));
+      const std::string &v = tokens[0];
+      if (v == "2" || v == "2.0")
+        version = 20;
+      else if (v == "2.1")
+        version = 21;
+      else if (v == "2.2")
+        version = 22;
+      else if (v == "4" || v == "4.0")
+        version = 40;
+      else if (v == "4.1")
+        version = 41;
+      else
+        fail("Gmsh format version " + excerpt(v) +
+             " is not supported; save the mesh as msh 2.2 or 4.1");
+      if (tokens[1] == "1")
+        throw InputError(
+          "<" + path + "> is a binary Gmsh file; save it as ASCII (gmsh " +
+          path + " -save -format msh41 -o ascii.msh, or Mesh.Binary = 0)");
+      if (tokens[1] != "0")
+        fail("file type " + excerpt(tokens[1]) + " is neither 0 (ASCII) nor 1");
+      if (tokens[2] != "8")
+        fail("data size " + excerpt(tokens[2]) +
+             " is not 8 (the size of a double)");
+      expect_marker("$EndMeshFormat");
+    }
+
+
+
+    void
+    GmshParser::parse_physical_names()
+    {
+      next("the number of physical names");
+      expect_tokens(1, "the number of physical names");
+      const long long n = integer(0, "number of physical names", 0);
+      for (long long i = 0; i < n; ++i)
+        {
+          const std::string what = "physical name " + std::to_string(i + 1) +
+                                   " of " + std::to_string(n);
+          record(what);
+          integer(0, "dimension of a physical name", 0, 3);
+          integer(1, "tag of a physical name");
+          // the name is quoted and may contain blanks
+          const std::size_t quote = line.find('"');
+          if (tokens.size() < 3 || tokens[2][0] != '"' ||
+              quote == line.size() - 1 || line.back() != '"')
+            fail(what + " " + excerpt(line) +
+                 " is not \"dimension tag \"name\"\"");
+        }
+      expect_marker("$EndPhysicalNames");
+    }
+
+
+
+    void
+    GmshParser::parse_entities()
+    {
+      have_entities = true;
+      next("the numbers of points, curves, surfaces and volumes");
+      expect_tokens(4, "the numbers of entities");
+      std::array<long long, 4> n;
+      for (unsigned int d = 0; d < 4; ++d)
+        n[d] = integer(d, "number of entities", 0);
+      const char *const kind[4] = {"point", "curve", "surface", "volume"};
+      for (unsigned int d = 0; d < 4; ++d)
+        for (long long i = 0; i < n[d]; ++i)
+          {
+            const std::string what = std::string(kind[d]) + " " +
+                                     std::to_string(i + 1) + " of " +
+                                     std::to_string(n[d]) + " in $Entities";
+            record(what);
+            const long long tag = integer(0, std::string(kind[d]) + " tag");
+            // points of msh 4.1 have one position, everything else a box
+            const std::size_t n_reals = (d == 0 && version == 41) ? 3 : 6;
+            for (std::size_t j = 1; j <= n_reals; ++j)
+              real(j, std::string("bounding box of ") + kind[d]);
+            const std::size_t n_physicals_at = n_reals + 1;
+            const long long   n_physicals =
+              integer(n_physicals_at, "number of physical tags", 0);
+            if (n_physicals > static_cast<long long>(tokens.size()))
+              fail(what + ": " + std::to_string(n_physicals) +
+                   " physical tags announced, fewer present");
+            std::size_t expected = n_physicals_at + 1 + n_physicals;
+            if (d > 0)
+              {
+                const long long n_bounding =
+                  integer(expected, "number of bounding entities", 0);
+                if (n_bounding > static_cast<long long>(tokens.size()))
+                  fail(what + ": " + std::to_string(n_bounding) +
+                       " bounding entities announced, fewer present");
+                for (long long j = 0; j < n_bounding; ++j)
+                  integer(expected + 1 + j, "bounding entity tag");
+                expected += 1 + n_bounding;
+              }
+            expect_tokens(expected, what);
+            // a curve's physical tag is its boundary id, a surface's its
+            // material id: one at most, as in deal.II; points and volumes
+            // play no role in a 2D mesh
+            if (n_physicals > 1 && (d == 1 || d == 2))
+              fail(std::string(kind[d]) + " " + std::to_string(tag) +
+                   " belongs to " + std::to_string(n_physicals) +
+                   " physical groups; signorini takes at most one per " +
+                   kind[d]);
+            long long physical = 0;
+            for (long long j = 0; j < n_physicals; ++j)
+              physical =
+                (d == 1 || d == 2) ?
+                  integer(n_physicals_at + 1 + j, "physical tag", 0, INT_MAX) :
+                  integer(n_physicals_at + 1 + j, "physical tag");
+            if (!entities.emplace(std::make_pair(d, tag), physical).second)
+              fail(std::string(kind[d]) + " " + std::to_string(tag) +
+                   " is declared twice");
+          }
+      expect_marker("$EndEntities");
+    }
+
+
+
+    void
+    GmshParser::add_node(const long long tag, const std::size_t first)
+    {
+      Node node;
+      node.tag  = tag;
+      node.line = line_number;
+      for (unsigned int d = 0; d < 3; ++d)
+        node.x[d] =
+          real(first + d, "coordinate of node " + std::to_string(tag));
+      if (!node_index.emplace(tag, nodes.size()).second)
+        fail("node " + std::to_string(tag) +
+             " is defined twice (first on line " +
+             std::to_string(nodes[node_index[tag]].line) + ")");
+      nodes.push_back(node);
+    }
+
+
+
+    void
+    GmshParser::parse_nodes()
+    {
+      if (version < 40)
+        {
+          next("the number of nodes");
+          expect_tokens(1, "the number of nodes");
+          const long long n = integer(0, "number of nodes", 0);
+          for (long long i = 0; i < n; ++i)
+            {
+              const std::string what =
+                "node " + std::to_string(i + 1) + " of " + std::to_string(n);
+              record(what);
+              expect_tokens(4, what + " (tag x y z)");
+              add_node(integer(0, "node tag", 1), 1);
+            }
+          expect_marker("$EndNodes");
+          return;
+        }
+
+      next("the header of $Nodes");
+      expect_tokens(version == 41 ? 4 : 2, "the header of $Nodes");
+      const long long n_blocks = integer(0, "number of node blocks", 0);
+      const long long n_nodes  = integer(1, "number of nodes", 0);
+      long long       min_tag = 0, max_tag = LLONG_MAX;
+      if (version == 41)
+        {
+          min_tag = integer(2, "smallest node tag", 0);
+          max_tag = integer(3, "largest node tag", 0);
+        }
+      const unsigned int header_line = line_number;
+      long long          n_read      = 0;
+      for (long long b = 0; b < n_blocks; ++b)
+        {
+          const std::string block = "node block " + std::to_string(b + 1) +
+                                    " of " + std::to_string(n_blocks);
+          record("the header of " + block);
+          expect_tokens(4, "the header of " + block);
+          // 4.1: dimension, tag; 4.0: tag, dimension
+          integer(version == 41 ? 0 : 1, "entity dimension", 0, 3);
+          integer(version == 41 ? 1 : 0, "entity tag");
+          const long long parametric = integer(2, "parametric flag", 0, 1);
+          if (parametric != 0)
+            fail(block + " has parametric coordinates, which are not "
+                         "supported; save the mesh without them "
+                         "(Mesh.SaveParametric = 0)");
+          const long long n = integer(3, "number of nodes in the block", 0);
+          if (n > n_nodes - n_read)
+            fail(block + " has " + std::to_string(n) +
+                 " nodes, but $Nodes announces " + std::to_string(n_nodes) +
+                 " in all and " + std::to_string(n_read) + " came before");
+          if (version == 40)
+            for (long long i = 0; i < n; ++i)
+              {
+                const std::string what = "node " + std::to_string(i + 1) +
+                                         " of " + std::to_string(n) + " of " +
+                                         block;
+                record(what);
+                expect_tokens(4, what + " (tag x y z)");
+                add_node(tag_in_range("node", min_tag, max_tag), 1);
+              }
+          else
+            {
+              // n tags, then n coordinate lines
+              std::vector<long long> block_tags;
+              for (long long i = 0; i < n; ++i)
+                {
+                  const std::string what = "tag of node " +
+                                           std::to_string(i + 1) + " of " +
+                                           std::to_string(n) + " of " + block;
+                  record(what);
+                  expect_tokens(1, what);
+                  block_tags.push_back(tag_in_range("node", min_tag, max_tag));
+                }
+              for (long long i = 0; i < n; ++i)
+                {
+                  const std::string what =
+                    "coordinates of node " + std::to_string(block_tags[i]) +
+                    " (" + std::to_string(i + 1) + " of " + std::to_string(n) +
+                    " of " + block + ")";
+                  record(what);
+                  expect_tokens(3, what);
+                  add_node(block_tags[i], 0);
+                }
+            }
+          n_read += n;
+        }
+      if (n_read != n_nodes)
+        fail_at(header_line,
+                "$Nodes announces " + std::to_string(n_nodes) +
+                  " nodes, its blocks hold " + std::to_string(n_read));
+      expect_marker("$EndNodes");
+    }
+
+
+
+    unsigned int
+    GmshParser::nodes_per_element(const long long type) const
+    {
+      switch (type)
+        {
+          case line_element:
+            return 2;
+          case triangle_element:
+            return 3;
+          case point_element:
+            return 1;
+          case 3:
+          case 16:
+          case 10:
+            fail("quadrilateral elements (type " + std::to_string(type) +
+                 ") are not supported: signorini needs a mesh of triangles "
+                 "(do not recombine)");
+          case 4:
+          case 5:
+          case 6:
+          case 7:
+          case 11:
+          case 12:
+          case 13:
+          case 14:
+          case 17:
+          case 18:
+          case 19:
+            fail("3D elements (type " + std::to_string(type) +
+                 ") are not supported: signorini needs a 2D mesh of "
+                 "triangles");
+          case 8:
+          case 9:
+          case 20:
+          case 21:
+          case 22:
+          case 23:
+          case 24:
+          case 25:
+          case 26:
+          case 27:
+          case 28:
+            fail("high-order elements (type " + std::to_string(type) +
+                 ") are not supported: save a first-order mesh of 3-node "
+                 "triangles (gmsh -order 1)");
+          default:
+            fail("element type " + std::to_string(type) +
+                 " is not supported: signorini reads 3-node triangles "
+                 "(type 2), 2-node lines (1) and points (15)");
+        }
+    }
+
+
+
+    void
+    GmshParser::add_element(const long long   type,
+                            const long long   physical,
+                            const std::size_t first)
+    {
+      Element element;
+      element.tag          = integer(0, "element tag", 1);
+      element.line         = line_number;
+      element.physical     = physical;
+      element.nodes        = {{0, 0, 0}};
+      const unsigned int n = nodes_per_element(type);
+      for (unsigned int v = 0; v < n; ++v)
+        {
+          const long long tag = integer(first + v, "node tag", 1);
+          const auto      p   = node_index.find(tag);
+          if (p == node_index.end())
+            fail("element " + std::to_string(element.tag) + " refers to node " +
+                 std::to_string(tag) + ", which is not in $Nodes");
+          element.nodes[v] = p->second;
+          for (unsigned int w = 0; w < v; ++w)
+            if (element.nodes[w] == p->second)
+              fail("element " + std::to_string(element.tag) + " uses node " +
+                   std::to_string(tag) + " twice");
+        }
+      if (type == triangle_element)
+        triangles.push_back(element);
+      else if (type == line_element)
+        lines.push_back(element);
+    }
+
+
+
+    long long
+    GmshParser::entity_physical_tag(const long long dim,
+                                    const long long tag) const
+    {
+      const auto p = entities.find(std::make_pair(dim, tag));
+      if (p != entities.end())
+        return p->second;
+      if (have_entities)
+        fail("the element block refers to entity " + std::to_string(tag) +
+             " of dimension " + std::to_string(dim) +
+             ", which is not in $Entities");
+      return 0;
+    }
+
+
+
+    void
+    GmshParser::parse_elements()
+    {
+      if (version < 40)
+        {
+          next("the number of elements");
+          expect_tokens(1, "the number of elements");
+          const long long n = integer(0, "number of elements", 0);
+          for (long long i = 0; i < n; ++i)
+            {
+              const std::string what =
+                "element " + std::to_string(i + 1) + " of " + std::to_string(n);
+              record(what);
+              // tag type number-of-tags tags... nodes...
+              const long long type = integer(1, "element type");
+              const long long n_tags =
+                integer(2, "number of element tags", 0, 1000);
+              const unsigned int n_nodes = nodes_per_element(type);
+              expect_tokens(3 + n_tags + n_nodes, what);
+              const long long tag = integer(0, "element tag", 1);
+              for (long long j = 0; j < n_tags; ++j)
+                integer(3 + j,
+                        "tag " + std::to_string(j + 1) + " of element " +
+                          std::to_string(tag));
+              long long physical = 0;
+              if (n_tags > 0 && type != point_element)
+                physical = integer(3, "physical tag", 0, INT_MAX);
+              add_element(type, physical, 3 + n_tags);
+            }
+          expect_marker("$EndElements");
+          return;
+        }
+
+      next("the header of $Elements");
+      expect_tokens(version == 41 ? 4 : 2, "the header of $Elements");
+      const long long n_blocks   = integer(0, "number of element blocks", 0);
+      const long long n_elements = integer(1, "number of elements", 0);
+      long long       min_tag = 0, max_tag = LLONG_MAX;
+      if (version == 41)
+        {
+          min_tag = integer(2, "smallest element tag", 0);
+          max_tag = integer(3, "largest element tag", 0);
+        }
+      const unsigned int header_line = line_number;
+      long long          n_read      = 0;
+      for (long long b = 0; b < n_blocks; ++b)
+        {
+          const std::string block = "element block " + std::to_string(b + 1) +
+                                    " of " + std::to_string(n_blocks);
+          record("the header of " + block);
+          expect_tokens(4, "the header of " + block);
+          // 4.1: dimension, tag; 4.0: tag, dimension
+          const long long dim =
+            integer(version == 41 ? 0 : 1, "entity dimension", 0, 3);
+          const long long entity = integer(version == 41 ? 1 : 0, "entity tag");
+          const long long type   = integer(2, "element type");
+          const long long n      = integer(3, "number of elements", 0);
+          const unsigned int n_nodes  = nodes_per_element(type);
+          const long long    type_dim = type == point_element ? 0 :
+                                        type == line_element  ? 1 :
+                                                                2;
+          if (dim != type_dim)
+            fail(block + " puts elements of type " + std::to_string(type) +
+                 " on an entity of dimension " + std::to_string(dim));
+          const long long physical = entity_physical_tag(dim, entity);
+          if (n > n_elements - n_read)
+            fail(block + " has " + std::to_string(n) +
+                 " elements, but $Elements announces " +
+                 std::to_string(n_elements) + " in all and " +
+                 std::to_string(n_read) + " came before");
+          for (long long i = 0; i < n; ++i)
+            {
+              const std::string what = "element " + std::to_string(i + 1) +
+                                       " of " + std::to_string(n) + " of " +
+                                       block;
+              record(what);
+              expect_tokens(1 + n_nodes, what);
+              tag_in_range("element", min_tag, max_tag);
+              add_element(type, physical, 1);
+            }
+          n_read += n;
+        }
+      if (n_read != n_elements)
+        fail_at(header_line,
+                "$Elements announces " + std::to_string(n_elements) +
+                  " elements, its blocks hold " + std::to_string(n_read));
+      expect_marker("$EndElements");
+    }
+
+
+
+    void
+    GmshParser::skip_section()
+    {
+      const std::string  end   = "$End" + line.substr(1);
+      const unsigned int start = line_number;
+      const std::string  name  = line;
+      do
+        if (!advance())
+          fail_at(start,
+                  excerpt(name) + " is not closed by " + excerpt(end) +
+                    " (is the file truncated?)");
+      while (line != end);
+    }
+
+
+
+    GmshTriangleMesh
+    GmshParser::parse()
+    {
+      parse_header();
+
+      // deal.II's order: optional $PhysicalNames and $Entities, then $Nodes
+      // and $Elements; other sections may only follow.
+      bool have_names = false, have_nodes = false, have_elements = false;
+      while (advance())
+        {
+          if (line[0] != '$')
+            fail("expected a section ($Name), found " + excerpt(line));
+          const bool before_nodes = !have_nodes;
+          if (line == "$PhysicalNames" && before_nodes && !have_names &&
+              !have_entities)
+            {
+              have_names = true;
+              parse_physical_names();
+            }
+          else if (line == "$Entities" && before_nodes && !have_entities &&
+                   version >= 40)
+            parse_entities();
+          else if (line == "$PartitionedEntities")
+            fail("partitioned meshes are not supported; save the mesh "
+                 "without partitions");
+          else if (line == "$Nodes" && before_nodes)
+            {
+              have_nodes = true;
+              parse_nodes();
+              expect_marker("$Elements");
+              parse_elements();
+              have_elements = true;
+            }
+          else if (line.rfind("$End", 0) == 0)
+            fail(excerpt(line) + " closes no open section");
+          else if (before_nodes || line == "$Nodes" || line == "$Elements" ||
+                   line == "$Entities" || line == "$PhysicalNames")
+            fail("section " + excerpt(line) +
+                 (have_nodes ? " is repeated or after $Elements" :
+                               " is not supported before $Nodes"));
+          else
+            skip_section();
+        }
+      if (!have_elements)
+        fail("the file ends before " +
+             std::string(have_nodes ? "$Elements" : "$Nodes") +
+             " (is it truncated?)");
+      return check_geometry();
+    }
+
+
+
+    GmshTriangleMesh
+    GmshParser::check_geometry() const
+    {
+      if (triangles.empty())
+        throw InputError("<" + path +
+                         "> contains no triangles (Gmsh type 2): signorini "
+                         "needs a 2D mesh of 3-node triangles");
+
+      // The nodes used by triangles, renumbered in file order.
+      const unsigned int        unused = static_cast<unsigned int>(-1);
+      std::vector<unsigned int> vertex(nodes.size(), unused);
+      for (const Element &t : triangles)
+        for (const unsigned int n : t.nodes)
+          vertex[n] = 0;
+      std::vector<unsigned int> used;
+      for (unsigned int n = 0; n < nodes.size(); ++n)
+        if (vertex[n] != unused)
+          {
+            vertex[n] = used.size();
+            used.push_back(n);
+          }
+
+      // Size of the mesh: its bounding box diameter.
+      std::array<double, 3> low = nodes[used[0]].x, high = low;
+      for (const unsigned int n : used)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            low[d]  = std::min(low[d], nodes[n].x[d]);
+            high[d] = std::max(high[d], nodes[n].x[d]);
+          }
+      const double diameter =
+        std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
+      if (!std::isfinite(diameter))
+        throw InputError("<" + path + ">: the coordinates are too large");
+      if (diameter == 0.)
+        throw InputError("<" + path +
+                         ">: all nodes of the triangles are at the point " +
+                         coordinates(low));
+
+      // A flat mesh in a plane z = const: its z is dropped.
+      const double tolerance = distance_tolerance * diameter;
+      const Node  &first     = nodes[used[0]];
+      for (const unsigned int n : used)
+        if (std::abs(nodes[n].x[2] - first.x[2]) > tolerance)
+          {
+            std::ostringstream message;
+            message << "node " << nodes[n].tag << " has z = " << nodes[n].x[2]
+                    << " while node " << first.tag << " has z = " << first.x[2]
+                    << ": signorini needs a flat mesh in a plane z = const";
+            reject_at(nodes[n].line, message.str());
+          }
+
+      // Coincident nodes, found by hashing the points into cells of the
+      // size of the tolerance and comparing neighbouring cells only.
+      {
+        const auto cell_of = [&](const Node &node, const unsigned int d) {
+          return static_cast<long long>(
+            std::floor((node.x[d] - low[d]) / tolerance));
+        };
+        const auto key = [](const long long i, const long long j) {
+          return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
+                 static_cast<std::uint64_t>(j);
+        };
+        std::unordered_multimap<std::uint64_t, unsigned int> grid;
+        grid.reserve(used.size());
+        for (const unsigned int n : used)
+          {
+            const long long i = cell_of(nodes[n], 0), j = cell_of(nodes[n], 1);
+            for (long long di = -1; di <= 1; ++di)
+              for (long long dj = -1; dj <= 1; ++dj)
+                {
+                  const auto range = grid.equal_range(key(i + di, j + dj));
+                  for (auto p = range.first; p != range.second; ++p)
+                    {
+                      const Node &other = nodes[p->second];
+                      if (std::hypot(nodes[n].x[0] - other.x[0],
+                                     nodes[n].x[1] - other.x[1]) <= tolerance)
+                        reject_at(nodes[n].line,
+                                  "nodes " + std::to_string(other.tag) +
+                                    " and " + std::to_string(nodes[n].tag) +
+                                    " are at the same point " +
+                                    coordinates(nodes[n].x) +
+                                    ": the mesh would have a crack or a "
+                                    "collapsed triangle there; merge them");
+                    }
+                }
+            grid.emplace(key(i, j), n);
+          }
+      }
+
+      // Triangles of (nearly) zero area, and the orientation of the others.
+      GmshTriangleMesh  mesh;
+      std::vector<bool> clockwise(triangles.size());
+      for (unsigned int t = 0; t < triangles.size(); ++t)
+        {
+          const Element &triangle = triangles[t];
+          // in units of the diameter, so that nothing overflows
+          std::array<std::array<double, 2>, 3> e;
+          for (unsigned int k = 0; k < 3; ++k)
+            for (unsigned int d = 0; d < 2; ++d)
+              e[k][d] = (nodes[triangle.nodes[(k + 1) % 3]].x[d] -
+                         nodes[triangle.nodes[k]].x[d]) /
+                        diameter;
+          const double twice_area = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+          double       longest    = 0;
+          for (unsigned int k = 0; k < 3; ++k)
+            longest = std::max(longest, std::hypot(e[k][0], e[k][1]));
+          if (std::abs(twice_area) <= 2 * area_tolerance ||
+              std::abs(twice_area) <= distance_tolerance * longest * longest)
+            {
+              std::ostringstream message;
+              const double       area = std::abs(twice_area) / 2;
+              message << "triangle " << triangle.tag;
+              if (area == 0.)
+                message << " has zero area";
+              else
+                message << " has nearly zero area "
+                        << area * diameter * diameter;
+              message << ": its nodes";
+              for (unsigned int k = 0; k < 3; ++k)
+                message << (k > 0 ? ", " : " ") << nodes[triangle.nodes[k]].tag
+                        << " " << coordinates(nodes[triangle.nodes[k]].x);
+              message << " are " << (area == 0. ? "" : "nearly ")
+                      << "collinear";
+              reject_at(triangle.line, message.str());
+            }
+          clockwise[t] = twice_area < 0;
+        }
+
+      // Each edge borders at most two triangles, one on each side (after
+      // orienting them counterclockwise): otherwise triangles overlap.
+      struct EdgeTriangles
+      {
+        // triangle (index) on each side, -1 if none
+        std::array<int, 2> side = {{-1, -1}};
+      };
+      std::unordered_map<std::uint64_t, EdgeTriangles> edges;
+      edges.reserve(3 * triangles.size());
+      const auto edge_key = [&](const unsigned int a, const unsigned int b) {
+        return (static_cast<std::uint64_t>(std::min(vertex[a], vertex[b]))
+                << 32) |
+               std::max(vertex[a], vertex[b]);
+      };
+      for (unsigned int t = 0; t < triangles.size(); ++t)
+        {
+          const Element &triangle = triangles[t];
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              unsigned int a = triangle.nodes[k],
+                           b = triangle.nodes[(k + 1) % 3];
+              if (clockwise[t])
+                std::swap(a, b);
+              const unsigned int side = vertex[a] < vertex[b] ? 0 : 1;
+              EdgeTriangles     &edge = edges[edge_key(a, b)];
+              if (edge.side[side] >= 0)
+                {
+                  const Element &other = triangles[edge.side[side]];
+                  reject_at(triangle.line,
+                            "triangles " + std::to_string(other.tag) + " and " +
+                              std::to_string(triangle.tag) +
+                              " overlap: they lie on the same side of their "
+                              "edge between nodes " +
+                              std::to_string(nodes[a].tag) + " and " +
+                              std::to_string(nodes[b].tag) +
+                              " (a repeated or folded triangle, or a surface "
+                              "in two physical groups?)");
+                }
+              edge.side[side] = t;
+            }
+        }
+
+      // Hanging nodes: a node inside a boundary edge (one triangle only) is
+      // a T-junction, and the mesh is not conforming there (a crack the
+      // solver would not see). The boundary edges go into a hash grid of
+      // cells of the longest one, each node is compared with the edges of
+      // its neighbourhood.
+      {
+        std::vector<std::pair<unsigned int, unsigned int>> boundary_edges;
+        double                                             cell_size = 0;
+        for (const auto &[key, edge] : edges)
+          if (edge.side[0] < 0 || edge.side[1] < 0)
+            {
+              const unsigned int a = used[key >> 32],
+                                 b = used[key & 0xFFFFFFFFULL];
+              boundary_edges.emplace_back(a, b);
+              cell_size = std::max(cell_size,
+                                   std::hypot(nodes[a].x[0] - nodes[b].x[0],
+                                              nodes[a].x[1] - nodes[b].x[1]));
+            }
+        const auto cell_of = [&](const double x, const unsigned int d) {
+          return static_cast<long long>(std::floor((x - low[d]) / cell_size));
+        };
+        const auto key = [](const long long i, const long long j) {
+          return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
+                 static_cast<std::uint64_t>(j);
+        };
+        std::unordered_multimap<std::uint64_t, unsigned int> grid;
+        for (unsigned int e = 0; cell_size > 0 && e < boundary_edges.size();
+             ++e)
+          {
+            const Node &a = nodes[boundary_edges[e].first],
+                       &b = nodes[boundary_edges[e].second];
+            for (long long i = cell_of(std::min(a.x[0], b.x[0]), 0);
+                 i <= cell_of(std::max(a.x[0], b.x[0]), 0);
+                 ++i)
+              for (long long j = cell_of(std::min(a.x[1], b.x[1]), 1);
+                   j <= cell_of(std::max(a.x[1], b.x[1]), 1);
+                   ++j)
+                grid.emplace(key(i, j), e);
+          }
+        for (const unsigned int n : used)
+          {
+            const Node     &node = nodes[n];
+            const long long i    = cell_of(node.x[0], 0),
+                            j    = cell_of(node.x[1], 1);
+            for (long long di = -1; di <= 1; ++di)
+              for (long long dj = -1; dj <= 1; ++dj)
+                {
+                  const auto range = grid.equal_range(key(i + di, j + dj));
+                  for (auto p = range.first; p != range.second; ++p)
+                    {
+                      const auto [a, b] = boundary_edges[p->second];
+                      if (a == n || b == n)
+                        continue;
+                      const Node  &na = nodes[a], &nb = nodes[b];
+                      const double ex      = nb.x[0] - na.x[0],
+                                   ey      = nb.x[1] - na.x[1];
+                      const double length2 = ex * ex + ey * ey;
+                      const double t       = ((node.x[0] - na.x[0]) * ex +
+                                        (node.x[1] - na.x[1]) * ey) /
+                                       length2;
+                      const double distance =
+                        std::hypot(na.x[0] + t * ex - node.x[0],
+                                   na.x[1] + t * ey - node.x[1]);
+                      if (t > 0 && t < 1 && distance <= tolerance)
+                        reject_at(node.line,
+                                  "node " + std::to_string(node.tag) + " " +
+                                    coordinates(node.x) +
+                                    " lies on the edge between nodes " +
+                                    std::to_string(na.tag) + " and " +
+                                    std::to_string(nb.tag) +
+                                    " without being a corner of its "
+                                    "triangle (a hanging node): the mesh is "
+                                    "not conforming there");
+                    }
+                }
+          }
+      }
+
+      // Line elements: a physical tag is a boundary id, so it must be on a
+      // boundary edge (deal.II refuses ids on interior faces, and a line
+      // away from the triangles would silently lose its id).
+      std::map<std::uint64_t, const Element *> boundary_lines;
+      for (const Element &l : lines)
+        {
+          if (l.physical == 0)
+            continue; // no id: nothing to pass on
+          const unsigned int a = l.nodes[0], b = l.nodes[1];
+          const auto         p = (vertex[a] == unused || vertex[b] == unused) ?
+                                   edges.end() :
+                                   edges.find(edge_key(a, b));
+          const std::string  name = "line element " + std::to_string(l.tag) +
+                                   " (physical tag " +
+                                   std::to_string(l.physical) + ", nodes " +
+                                   std::to_string(nodes[a].tag) + " and " +
+                                   std::to_string(nodes[b].tag) + ")";
+          if (p == edges.end())
+            reject_at(l.line,
+                      name + " is not an edge of any triangle, so its boundary "
+                             "id would be lost");
+          if (p->second.side[0] >= 0 && p->second.side[1] >= 0)
+            reject_at(l.line,
+                      name + " lies inside the mesh, between triangles " +
+                        std::to_string(triangles[p->second.side[0]].tag) +
+                        " and " +
+                        std::to_string(triangles[p->second.side[1]].tag) +
+                        ": only boundary edges take a boundary id");
+          const auto other = boundary_lines.emplace(p->first, &l);
+          if (!other.second)
+            {
+              if (other.first->second->physical != l.physical)
+                reject_at(l.line,
+                          name + " and line element " +
+                            std::to_string(other.first->second->tag) +
+                            " (physical tag " +
+                            std::to_string(other.first->second->physical) +
+                            ") are the same edge with two boundary ids (a "
+                            "curve in two physical groups?)");
+              continue;
+            }
+          CellData<1> face;
+          face.vertices    = {vertex[a], vertex[b]};
+          face.boundary_id = static_cast<types::boundary_id>(l.physical);
+          mesh.boundary.boundary_lines.push_back(face);
+        }
+
+      for (const unsigned int n : used)
+        mesh.vertices.emplace_back(nodes[n].x[0], nodes[n].x[1]);
+      for (const Element &t : triangles)
+        {
+          CellData<2> cell(3);
+          for (unsigned int k = 0; k < 3; ++k)
+            cell.vertices[k] = vertex[t.nodes[k]];
+          cell.material_id = static_cast<types::material_id>(t.physical);
+          mesh.cells.push_back(cell);
+        }
+      return mesh;
+    }
+  } // namespace
+
+
+
+  GmshTriangleMesh
+  read_gmsh_file(const std::string &path)
+  {
+    std::error_code                    error;
+    const std::filesystem::file_status status =
+      std::filesystem::status(path, error);
+    if (std::filesystem::is_directory(status))
+      throw InputError("cannot open mesh file <" + path +
+                       ">: it is a directory");
+    // a device or a pipe could block or never end (/dev/zero)
+    if (std::filesystem::exists(status) &&
+        !std::filesystem::is_regular_file(status))
+      throw InputError("cannot open mesh file <" + path +
+                       ">: it is not a regular file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+      throw InputError("cannot open mesh file <" + path + ">");
+    const std::string text((std::istreambuf_iterator<char>(in)),
+                           std::istreambuf_iterator<char>());
+    if (in.bad())
+      throw InputError("cannot read mesh file <" + path + ">");
+    // a UTF-8 byte order mark, which some editors write, is not content
+    const std::string bom = "\xEF\xBB\xBF";
+    const std::string content =
+      text.compare(0, 3, bom) == 0 ? text.substr(3) : text;
+    GmshParser parser(path, content);
+    return parser.parse();
+  }
+} // namespace Signorini
