@@ -966,12 +966,30 @@ namespace Signorini
           }
       const double diameter =
         std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
-      if (!std::isfinite(diameter))
-        throw InputError("<" + path + ">: the coordinates are too large");
       if (diameter == 0.)
         throw InputError("<" + path +
                          ">: all nodes of the triangles are at the point " +
                          coordinates(low));
+      // Extreme scales: areas and squared lengths would underflow or
+      // overflow in the assembly and the checks.
+      if (!std::isfinite(diameter) || diameter > 1e100 || diameter < 1e-100)
+        {
+          std::ostringstream message;
+          message << "<" << path << ">: the mesh is " << diameter
+                  << " across, outside [1e-100, 1e100]: change the units";
+          throw InputError(message.str());
+        }
+      for (const unsigned int n : used)
+        for (unsigned int d = 0; d < 3; ++d)
+          if (std::abs(nodes[n].x[d]) > 1e150)
+            {
+              std::ostringstream message;
+              message << "node " << nodes[n].tag << " has the coordinate "
+                      << nodes[n].x[d]
+                      << ", beyond 1e150 in absolute value (its square "
+                         "overflows): change the units or the origin";
+              reject_at(nodes[n].line, message.str());
+            }
 
       // A flat mesh in a plane z = const: its z is dropped.
       const double tolerance = distance_tolerance * diameter;
@@ -1180,6 +1198,44 @@ namespace Signorini
                                     "not conforming there");
                     }
                 }
+          }
+      }
+
+      // One body: the triangles must be connected through shared edges
+      // (union-find); a second part would float free in the solver.
+      {
+        std::vector<unsigned int> parent(triangles.size());
+        for (unsigned int t = 0; t < triangles.size(); ++t)
+          parent[t] = t;
+        const auto root = [&](unsigned int t) {
+          while (parent[t] != t)
+            t = parent[t] = parent[parent[t]];
+          return t;
+        };
+        for (const auto &edge : edges)
+          if (edge.second.side[0] >= 0 && edge.second.side[1] >= 0)
+            parent[root(edge.second.side[0])] = root(edge.second.side[1]);
+        unsigned int n_parts = 0, second = 0;
+        for (unsigned int t = 0; t < triangles.size(); ++t)
+          if (root(t) == t)
+            ++n_parts;
+        for (unsigned int t = 0; t < triangles.size(); ++t)
+          if (root(t) != root(0))
+            {
+              second = t;
+              break;
+            }
+        if (n_parts > 1)
+          {
+            std::array<double, 3> centre = {{0, 0, 0}};
+            for (const unsigned int n : triangles[second].nodes)
+              for (unsigned int d = 0; d < 2; ++d)
+                centre[d] += nodes[n].x[d] / 3;
+            throw InputError("<" + path + "> has " + std::to_string(n_parts) +
+                             " separate parts (one body is modelled); part 2 "
+                             "contains the triangle " +
+                             std::to_string(triangles[second].tag) + " at " +
+                             coordinates(centre));
           }
       }
 

@@ -23,8 +23,53 @@
 
 namespace Signorini
 {
+  namespace
+  {
+    /// @p message on one line, each <quoted> text longer than 200 characters
+    /// cut with "...", the whole at most 2000 characters: a name or value of
+    /// a megabyte must not become an error line of megabytes.
+    std::string
+    capped(const std::string &message)
+    {
+      constexpr std::size_t max_quoted = 200, max_total = 2000;
+      // the end of a cut, moved back out of a UTF-8 sequence
+      const auto cut = [](const std::string &text, std::size_t end) {
+        while (end > 0 &&
+               (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80)
+          --end;
+        return text.substr(0, end) + "...";
+      };
+      std::string result;
+      std::size_t position = 0;
+      while (position < message.size())
+        {
+          const auto open  = message.find('<', position);
+          const auto close = open == std::string::npos ?
+                               std::string::npos :
+                               message.find('>', open + 1);
+          if (close == std::string::npos)
+            {
+              result += message.substr(position);
+              break;
+            }
+          const std::string quoted = message.substr(open + 1, close - open - 1);
+          result +=
+            message.substr(position, open + 1 - position) +
+            (quoted.size() > max_quoted ? cut(quoted, max_quoted) : quoted) +
+            ">";
+          position = close + 1;
+        }
+      for (char &c : result)
+        if (c == '\n' || c == '\r')
+          c = ' ';
+      return result.size() > max_total ? cut(result, max_total) : result;
+    }
+  } // namespace
+
+
+
   InputError::InputError(const std::string &message)
-    : std::runtime_error(message)
+    : std::runtime_error(capped(message))
   {}
 
 
@@ -76,6 +121,23 @@ namespace Signorini
         return "";
       return text.substr(begin,
                          text.find_last_not_of(" \t\r\n\f\v") + 1 - begin);
+    }
+
+    /// Longest quoted text kept in a message: a 1 MB name must not become a
+    /// 2 MB error line.
+    constexpr std::size_t max_quoted_length = 200;
+
+    /// @p text, cut after max_quoted_length characters (not inside a UTF-8
+    /// sequence) and marked with "...".
+    std::string
+    shortened(const std::string &text)
+    {
+      if (text.size() <= max_quoted_length)
+        return text;
+      std::size_t end = max_quoted_length;
+      while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80)
+        --end;
+      return text.substr(0, end) + "...";
     }
 
     /// What parse_finite_double() accepts, for messages.
@@ -164,7 +226,8 @@ namespace Signorini
             prm.leave_subsection();
           double number = 0;
           if (!parse_finite_double(value, number))
-            throw InputError(name + entry.back() + " = " + trimmed(value) +
+            throw InputError(name + entry.back() + " = " +
+                             shortened(trimmed(value)) +
                              " is not a finite number " + double_range);
         }
     }
@@ -206,8 +269,14 @@ namespace Signorini
                     const std::string &text)
     {
       const std::string head = "Line <";
-      const std::string tail = "> of file <" + filename + ">: ";
-      const auto        end  = message.find(tail);
+      std::string       tail = "> of file <" + filename + ">: ";
+      auto              end  = message.find(tail);
+      if (end == std::string::npos)
+        {
+          // deal.II 9.4's "no such subsection" message lacks the '>'
+          tail = "> of file <" + filename + ": ";
+          end  = message.find(tail);
+        }
       if (message.rfind(head, 0) != 0 || end == std::string::npos)
         return message;
       const std::string number = message.substr(head.size(), end - head.size());
@@ -219,8 +288,110 @@ namespace Signorini
       for (const char c : message.substr(end + tail.size()))
         if (!(c == ' ' && !rest.empty() && rest.back() == ' '))
           rest += c;
-      return "line " + number + ": " + (entry.empty() ? "" : entry + ": ") +
-             rest;
+      return "line " + number + ": " +
+             (entry.empty() ? "" : shortened(entry) + ": ") + rest;
+    }
+
+    /// The line numbers and texts of the logical lines of the .prm text
+    /// @p text, joined and cut as deal.II's ParameterHandler does: a line
+    /// ending in a backslash continues on the next one, '#' starts a
+    /// comment, tabs are blanks.
+    std::vector<std::pair<unsigned int, std::string>>
+    prm_lines(const std::string &text)
+    {
+      std::vector<std::pair<unsigned int, std::string>> result;
+      std::istringstream                                in(text);
+      std::string                                       line, joined;
+      unsigned int                                      n = 0, first = 0;
+      while (std::getline(in, line))
+        {
+          ++n;
+          line = trimmed(line);
+          if (joined.empty())
+            first = n;
+          if (!line.empty() && line.back() == '\\')
+            {
+              joined += line.substr(0, line.size() - 1);
+              continue;
+            }
+          joined += line;
+          joined = joined.substr(0, joined.find('#'));
+          for (char &c : joined)
+            if (c == '\t')
+              c = ' ';
+          result.emplace_back(first, trimmed(joined));
+          joined.clear();
+        }
+      return result;
+    }
+
+    /// Deepest nesting of included parameter files accepted.
+    constexpr unsigned int max_include_depth = 10;
+
+    /// Follow the `include` lines of the .prm text @p text (of the file
+    /// @p chain.back()) before deal.II does: deal.II recurses without a
+    /// limit, so that a file including itself overflows the stack. Throw an
+    /// InputError for a cycle, a nesting deeper than max_include_depth and
+    /// an included file that cannot be read, naming the chain of includes.
+    void
+    check_includes(const std::string                  &text,
+                   std::vector<std::string>           &chain,
+                   std::vector<std::filesystem::path> &canonical_chain,
+                   std::vector<unsigned int>          &line_chain)
+    {
+      for (const auto &[line_number, line] : prm_lines(text))
+        {
+          if (line.rfind("include ", 0) != 0 && line.rfind("INCLUDE ", 0) != 0)
+            continue;
+          const std::string target = trimmed(line.substr(8));
+          if (target.empty())
+            continue; // deal.II's own message names the line
+          line_chain.push_back(line_number);
+          // "<a.prm> line 3 -> <b.prm> line 1 -> <target>"
+          std::string path_text;
+          for (unsigned int i = 0; i < chain.size(); ++i)
+            path_text += "<" + shortened(chain[i]) + "> line " +
+                         std::to_string(line_chain[i]) + " -> ";
+          path_text += "<" + shortened(target) + ">";
+          const std::string where = "include " + path_text;
+          const bool relative     = std::filesystem::path(target).is_relative();
+          const std::string relative_note =
+            relative ? " (relative to the working directory)" : "";
+
+          std::error_code                    error;
+          const std::filesystem::file_status status =
+            std::filesystem::status(target, error);
+          if (!std::filesystem::exists(status))
+            throw InputError(where + ": the included file" + relative_note +
+                             " does not exist");
+          if (!std::filesystem::is_regular_file(status))
+            throw InputError(where + ": the included file" + relative_note +
+                             " is not a regular file");
+          const std::filesystem::path canonical =
+            std::filesystem::canonical(target, error);
+          for (const auto &previous : canonical_chain)
+            if (!error && previous == canonical)
+              throw InputError(where + ": the files include each other in a "
+                                       "cycle");
+          if (chain.size() > max_include_depth)
+            throw InputError(where + ": includes nested deeper than " +
+                             std::to_string(max_include_depth));
+          std::ifstream     in(target, std::ios::binary);
+          const std::string included((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+          if (!in.is_open() || in.bad())
+            throw InputError(where + ": the included file cannot be read");
+          if (included.find('\0') != std::string::npos)
+            throw InputError(where + ": the included file contains a NUL "
+                                     "byte (binary file?)");
+
+          chain.push_back(target);
+          canonical_chain.push_back(canonical);
+          check_includes(included, chain, canonical_chain, line_chain);
+          chain.pop_back();
+          canonical_chain.pop_back();
+          line_chain.pop_back();
+        }
     }
   } // namespace
 
@@ -249,6 +420,9 @@ namespace Signorini
     // a UTF-8 byte order mark (some editors write one) is not content
     if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
       text.erase(0, 3);
+    // deal.II's messages would stop at the NUL, and no parameter has one
+    if (text.find('\0') != std::string::npos)
+      throw InputError(name + ": contains a NUL byte (binary file?)");
 
     const std::vector<EntryPath> doubles = double_entries(prm);
 
@@ -266,6 +440,42 @@ namespace Signorini
       throw InputError(
         name + ": is empty" +
         (text.find('#') != std::string::npos ? " (only comments)" : ""));
+
+    if (extension == ".json")
+      {
+        // deal.II reads an array's elements as entries of empty name and
+        // reports "entry <> you have not yet declared"
+        bool         in_string = false;
+        unsigned int line      = 1;
+        for (std::size_t i = 0; i < text.size(); ++i)
+          if (text[i] == '\n')
+            ++line;
+          else if (in_string && text[i] == '\\')
+            ++i;
+          else if (text[i] == '"')
+            in_string = !in_string;
+          else if (!in_string && text[i] == '[')
+            throw InputError(name + ": line " + std::to_string(line) +
+                             ": a JSON array is not a deal.II parameter file "
+                             "entry (deal.II reads objects of \"name\": "
+                             "\"value\" pairs)");
+      }
+    if (extension == ".prm")
+      {
+        std::vector<std::string>           chain{filename};
+        std::error_code                    error;
+        std::vector<std::filesystem::path> canonical_chain{
+          std::filesystem::canonical(filename, error)};
+        std::vector<unsigned int> line_chain;
+        try
+          {
+            check_includes(text, chain, canonical_chain, line_chain);
+          }
+        catch (const InputError &exc)
+          {
+            throw InputError(name + ": " + exc.what());
+          }
+      }
 
     try
       {
@@ -314,6 +524,27 @@ namespace Signorini
     check_function_constants(ParameterHandler  &prm,
                              const std::string &description)
     {
+      // Names the parser defines itself: deal.II's ParsedFunction sets pi and
+      // Pi after the user's constants (a constant pi=0.1 would silently be
+      // 3.14159), muparser has _pi and _e; a variable or constant of one of
+      // these names makes muparser throw an exception deal.II lets through.
+      const std::set<std::string> predefined{"pi", "Pi", "_pi", "_e"};
+      const std::string           variable_list = prm.get("Variable names");
+      std::set<std::string>       variables{"x", "y", "z", "t"};
+      {
+        std::istringstream in(variable_list);
+        for (std::string variable; std::getline(in, variable, ',');)
+          {
+            variable = trimmed(variable);
+            if (predefined.count(variable) != 0)
+              throw InputError(description + ": Variable names = " +
+                               trimmed(variable_list) + ": <" + variable +
+                               "> is a predefined constant of the function "
+                               "parser; choose another name");
+            variables.insert(variable);
+          }
+      }
+
       const std::string list = prm.get("Function constants");
       const std::string name =
         description + ": Function constants = " + trimmed(list) + ": ";
@@ -347,6 +578,16 @@ namespace Signorini
           if (!parse_finite_double(value, number))
             throw InputError(name + "the value <" + value + "> of " + constant +
                              " is not a finite number " + double_range);
+          if (predefined.count(constant) != 0)
+            throw InputError(name + "<" + constant +
+                             "> is a predefined constant of the function "
+                             "parser and cannot be redefined; choose another "
+                             "name");
+          if (variables.count(constant) != 0)
+            throw InputError(name + "<" + constant +
+                             "> is the name of a variable (x, y, z, t or "
+                             "Variable names = " +
+                             trimmed(variable_list) + "); choose another name");
           if (!names.insert(constant).second)
             throw InputError(name + constant + " is defined twice");
         }
@@ -393,6 +634,14 @@ namespace Signorini
         std::cerr.rdbuf(cerr_buffer);
         throw InputError(description +
                          ": invalid function: " + one_line_message(exc.what()));
+      }
+    catch (...)
+      {
+        // muparser's mu::ParserError derives from nothing standard
+        std::cerr.rdbuf(cerr_buffer);
+        throw InputError(description +
+                         ": invalid function: the expression parser refused "
+                         "the expression, its variables or its constants");
       }
     return function;
   }

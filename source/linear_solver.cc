@@ -3,6 +3,10 @@
 
 #include <signorini/input_error.h>
 #include <signorini/linear_solver.h>
+#include <signorini/registry.h>
+
+#include <Amesos.h>
+#include <algorithm>
 
 namespace Signorini
 {
@@ -141,17 +145,34 @@ namespace Signorini
 
 
 
+  namespace
+  {
+    /// The names of the types in Linear solver/Type.
+    const NamedValues<ElasticitySolver::Type> &
+    type_names()
+    {
+      using Type = ElasticitySolver::Type;
+      static const NamedValues<Type> names(
+        {{"automatic",
+          Type::automatic,
+          "chosen by the number of DoFs, see 'Direct solver limit'"},
+         {"direct", Type::direct, "sparse direct factorisation"},
+         {"AMG-CG", Type::amg_cg, "Trilinos ML AMG"}});
+      return names;
+    }
+  } // namespace
+
+
+
   void
   ElasticitySolver::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
     {
       prm.declare_entry("Type",
-                        "automatic",
-                        Patterns::Selection("automatic|direct|AMG-CG"),
-                        "Preconditioner of the CG solves: sparse direct "
-                        "factorisation, Trilinos ML AMG, or chosen by the "
-                        "number of DoFs ('Direct solver limit').");
+                        type_names().default_name(),
+                        Patterns::Selection(type_names().selection()),
+                        type_names().help("Preconditioner of the CG solves"));
       prm.declare_entry("Direct solver limit",
                         "10000",
                         Patterns::Integer(0),
@@ -183,13 +204,33 @@ namespace Signorini
   {
     prm.enter_subsection("Linear solver");
     {
-      type                = prm.get("Type");
+      type                = type_names().value(prm.get("Type"));
       direct_solver_limit = prm.get_integer("Direct solver limit");
       direct_package      = prm.get("Direct solver package");
       relative_tolerance  = prm.get_double("Relative tolerance");
       max_iterations      = prm.get_integer("Maximum iterations");
     }
     prm.leave_subsection();
+    // the Selection names every package Amesos knows; which of them this
+    // Trilinos was built with is known only to its factory (as for
+    // deal.II's SolverDirect), so that --validate refuses what a run would
+    Amesos                   factory;
+    std::vector<std::string> available;
+    for (const std::string name :
+         {"Amesos_Klu", "Amesos_Umfpack", "Amesos_Mumps", "Amesos_Lapack"})
+      if (factory.Query(name))
+        available.push_back(name);
+    if (std::find(available.begin(), available.end(), direct_package) ==
+        available.end())
+      {
+        std::string list;
+        for (const auto &name : available)
+          list += (list.empty() ? "" : ", ") + name;
+        throw InputError(
+          "Linear solver/Direct solver package = " + direct_package +
+          ": not available in this Trilinos build (available: " +
+          (list.empty() ? std::string("none") : list) + ")");
+      }
   }
 
 
@@ -205,8 +246,9 @@ namespace Signorini
     condensed_matrix  = &condensed_stiffness;
     translation_modes = constant_modes;
     support_dofs      = supports;
-    use_direct        = (type == "direct") ||
-                 (type == "automatic" && stiffness.m() <= direct_solver_limit);
+    use_direct =
+      (type == Type::direct) ||
+      (type == Type::automatic && stiffness.m() <= direct_solver_limit);
     current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
     update_preconditioner({});
   }
@@ -372,14 +414,8 @@ namespace Signorini
   std::string
   ElasticitySolver::method() const
   {
-    return use_direct ? "direct (" + direct_package + ")" : "AMG-CG";
-  }
-
-
-
-  double
-  ElasticitySolver::tolerance() const
-  {
-    return relative_tolerance;
+    return use_direct ?
+             type_names().name(Type::direct) + " (" + direct_package + ")" :
+             type_names().name(Type::amg_cg);
   }
 } // namespace Signorini

@@ -7,9 +7,11 @@
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <thread>
 
 namespace
 {
@@ -36,14 +38,37 @@ main(int argc, char **argv)
                                        argv,
                                        numbers::invalid_unsigned_int);
   const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-  // Under MPI, every rank meets the same errors (all input is replicated);
-  // rank 0 reports, and an abort keeps an error on one rank from leaving
-  // the others waiting.
+  // Under MPI, the ranks almost always meet an error together (all input is
+  // replicated, solver failures come from global reductions): rank 0
+  // reports and every rank exits normally with the code, without mpirun's
+  // abort banner. A rank that meets an error alone (a write failure) would
+  // leave the others waiting: if they do not all arrive at the barrier
+  // within a few seconds, it reports itself and aborts the job. (An own
+  // communicator: the barrier cannot match a collective of a rank that is
+  // still computing.)
+  MPI_Comm error_comm = MPI_COMM_NULL;
+  if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+    MPI_Comm_dup(MPI_COMM_WORLD, &error_comm);
   const auto fail = [&](const std::string &message, const int code) {
     if (root)
       std::cerr << "signorini: error: " << message << std::endl;
-    if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-      MPI_Abort(MPI_COMM_WORLD, code);
+    if (error_comm == MPI_COMM_NULL)
+      return code;
+    MPI_Request request;
+    MPI_Ibarrier(error_comm, &request);
+    int        all_arrived = 0;
+    const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (MPI_Test(&request, &all_arrived, MPI_STATUS_IGNORE) == MPI_SUCCESS &&
+           !all_arrived && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (all_arrived)
+      return code;
+    if (!root) // rank 0 may not know this rank's error
+      std::cerr << "signorini: error: (rank "
+                << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) << ") "
+                << message << std::endl;
+    MPI_Abort(MPI_COMM_WORLD, code);
     return code;
   };
   try
@@ -66,9 +91,22 @@ main(int argc, char **argv)
       const bool validate_only = (args.size() == 2 && args[0] == "--validate");
       if (!(validate_only || (args.size() == 1 && args[0][0] != '-')))
         {
-          if (root)
-            print_usage(std::cerr);
-          return 1;
+          // one line, as every input error: say what is wrong first
+          std::string what = "no parameter file given";
+          for (const std::string &arg : args)
+            if (!arg.empty() && arg[0] == '-' && arg != "--validate" &&
+                arg != "--help" && arg != "-h" && arg != "--print-parameters")
+              {
+                what = "unknown option <" + arg + ">";
+                break;
+              }
+          if (what == "no parameter file given" && args.size() > 1)
+            what = "too many arguments (" + std::to_string(args.size()) +
+                   "), one parameter file expected";
+          else if (what == "no parameter file given" && !args.empty())
+            what = "--validate needs a parameter file";
+          throw InputError(what + "; usage: signorini [--validate] FILE.prm | "
+                                  "--print-parameters | --help");
         }
       const std::string filename = args.back();
 

@@ -5,6 +5,7 @@
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace Signorini
@@ -111,6 +112,19 @@ namespace Signorini
 
 
   template <int dim>
+  double
+  MeshInput<dim>::n_block_cells() const
+  {
+    // convert_hypercube_to_simplex_mesh() cuts each rectangle into 8
+    double n = 8.;
+    for (const unsigned int s : block_subdivisions)
+      n *= s;
+    return n;
+  }
+
+
+
+  template <int dim>
   void
   MeshInput<dim>::create(Triangulation<dim> &triangulation) const
   {
@@ -118,6 +132,15 @@ namespace Signorini
       {
         if (dim != 2)
           throw InputError("Mesh/Source = block is only defined in 2D");
+        // deal.II numbers vertices and cells with 32-bit integers
+        if (n_block_cells() * std::pow(4., initial_refinements) > 2e9)
+          throw InputError(
+            "Mesh/Block subdivisions: " +
+            std::to_string(block_subdivisions[0]) + " x " +
+            std::to_string(block_subdivisions[1]) + " rectangles and " +
+            std::to_string(initial_refinements) +
+            " initial refinements give more than 2e9 triangles (deal.II "
+            "numbers them with 32-bit integers)");
         // Whatever the subdivisions, x = 1/2 and y = 1/2 are nodes (vertices
         // for even counts, edge midpoints added by the conversion for odd
         // ones), so the load boundaries are resolved exactly.

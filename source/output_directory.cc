@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <unistd.h>
 #include <vector>
 
@@ -72,6 +74,102 @@ namespace Signorini
 
 
 
+    /// "" if the manifest @p manifest is absent or a regular file, else why
+    /// not: a run writes it, and must not write through a link or into a
+    /// directory.
+    std::string
+    manifest_problem(const std::string &manifest)
+    {
+      std::error_code ec;
+      const auto      status = fs::symlink_status(manifest, ec);
+      if (!fs::exists(status) || fs::is_regular_file(status))
+        return "";
+      return "Output directory: <" + manifest + "> is " +
+             (fs::is_symlink(status)   ? "a symbolic link" :
+              fs::is_directory(status) ? "a directory" :
+                                         "not a regular file") +
+             ", not a manifest a run wrote; remove it or choose another "
+             "directory";
+    }
+
+
+
+    /// The plain names the manifest @p manifest lists: never a path leading
+    /// out of the directory (CRLF line ends tolerated).
+    std::vector<std::string>
+    listed_names(const std::string &manifest)
+    {
+      std::vector<std::string> names;
+      std::ifstream            in(manifest);
+      std::string              name;
+      while (std::getline(in, name))
+        {
+          if (!name.empty() && name.back() == '\r')
+            name.pop_back();
+          if (name.empty() || name[0] == '#' ||
+              name.find('/') != std::string::npos || name == "." ||
+              name == "..")
+            continue;
+          names.push_back(name);
+        }
+      return names;
+    }
+
+
+
+    /**
+     * Why the run cannot write into the existing directory @p path ("" if
+     * it can): a file with a name the run writes that no earlier run listed
+     * in the manifest is the user's and would be overwritten; one that is a
+     * symbolic link would be written through, outside the directory.
+     */
+    std::string
+    foreign_file_problem(const std::string &path, const std::string &manifest)
+    {
+      std::string     problem = manifest_problem(manifest);
+      std::error_code ec;
+      if (!problem.empty() || !fs::is_directory(path, ec))
+        return problem;
+      // parameters.prm, statistics.csv, solution.pvd, contact-CC.csv,
+      // solution-CC.vtu, solution-CC.pvtu, solution-CC.RRR.vtu
+      static const std::regex output_name(
+        "parameters\\.prm|statistics\\.csv|solution\\.pvd|"
+        "contact-[0-9]{2,}\\.csv|solution-[0-9]{2,}(\\.pvtu|(\\.[0-9]{3,})?"
+        "\\.vtu)");
+      const auto            names = listed_names(manifest);
+      std::set<std::string> listed(names.begin(), names.end());
+      std::set<std::string> links, foreign; // sorted: the first is named
+      for (fs::directory_iterator entry(path, ec), end; !ec && entry != end;
+           entry.increment(ec))
+        {
+          const std::string name = entry->path().filename().string();
+          if (!std::regex_match(name, output_name))
+            continue;
+          if (entry->is_symlink(ec))
+            links.insert(name);
+          else if (listed.count(name) == 0)
+            foreign.insert(name);
+        }
+      const auto others = [](const std::set<std::string> &names) {
+        return names.size() > 1 ?
+                 " (and " + std::to_string(names.size() - 1) + " more)" :
+                 std::string();
+      };
+      const std::string name = "Output directory: <" + path + "> holds ";
+      if (!links.empty())
+        return name + *links.begin() + others(links) +
+               ", a symbolic link the run would write through; choose another "
+               "directory or remove it";
+      if (!foreign.empty())
+        return name + *foreign.begin() + others(foreign) +
+               ", which no earlier run listed in " +
+               OutputDirectory::manifest_name +
+               "; choose another directory or remove it";
+      return "";
+    }
+
+
+
     /// ": " and the system's reason for the last failure, if it gave one.
     std::string
     reason()
@@ -89,7 +187,13 @@ namespace Signorini
     root      = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
     listed.clear();
     // every rank throws the same error (rank 0 alone touches the disk)
-    std::string problem = root ? directory_problem(path) : std::string();
+    std::string problem;
+    if (root)
+      {
+        problem = directory_problem(path);
+        if (problem.empty())
+          problem = foreign_file_problem(path, path_of(manifest_name));
+      }
     if (dealii::Utilities::MPI::n_mpi_processes(comm) > 1)
       problem = dealii::Utilities::MPI::broadcast(comm, problem, 0);
     if (!problem.empty())
@@ -110,24 +214,19 @@ namespace Signorini
       throw InputError("Output directory: cannot create <" + directory +
                        ">: " + ec.message());
     const std::string manifest = path_of(manifest_name);
-    {
-      std::ifstream in(manifest);
-      std::string   name;
-      while (std::getline(in, name))
-        {
-          // plain names only: the manifest never leads out of the directory
-          if (name.empty() || name[0] == '#' ||
-              name.find('/') != std::string::npos || name == "." ||
-              name == "..")
-            continue;
-          const std::string file   = path_of(name);
-          const auto        status = fs::symlink_status(file, ec);
-          if ((fs::is_regular_file(status) || fs::is_symlink(status)) &&
-              !fs::remove(file, ec))
-            throw InputError("Output directory: cannot delete <" + file +
-                             "> of the previous run: " + ec.message());
-        }
-    }
+    // (checked at initialize(); again here, right before it is written)
+    if (const std::string problem = manifest_problem(manifest);
+        !problem.empty())
+      throw InputError(problem);
+    for (const auto &name : listed_names(manifest))
+      {
+        const std::string file   = path_of(name);
+        const auto        status = fs::symlink_status(file, ec);
+        if ((fs::is_regular_file(status) || fs::is_symlink(status)) &&
+            !fs::remove(file, ec))
+          throw InputError("Output directory: cannot delete <" + file +
+                           "> of the previous run: " + ec.message());
+      }
     errno = 0;
     std::ofstream out(manifest);
     out << "# Files written by the last signorini run in this directory; the "

@@ -115,13 +115,14 @@ namespace Signorini
     prm.leave_subsection();
 
     MeshInput<dim>::declare_parameters(prm);
-    declare_size_predictor_parameters(prm);
+    SizePredictor::registry().declare_parameters(prm);
+    AdaptationTarget::declare_parameters(prm);
     LinearElasticMaterial<dim>::declare_parameters(prm);
     ConstitutiveRelationError<dim>::declare_parameters(prm);
     BoundaryConditions<dim>::declare_parameters(prm);
     ContactBoundary<dim>::declare_parameters(prm);
-    declare_contact_condition_parameters<dim>(prm);
-    declare_contact_solver_parameters<dim>(prm);
+    ContactCondition<dim>::registry().declare_parameters(prm);
+    ContactSolver<dim>::registry().declare_parameters(prm);
     ElasticitySolver::declare_parameters(prm);
   }
 
@@ -164,15 +165,20 @@ namespace Signorini
       prm.get_bool("Initial active set from previous cycle");
     check_tolerance = prm.get_double("Check tolerance");
     prm.leave_subsection();
-    contact_condition = create_contact_condition<dim>(prm);
-    contact_solver    = create_contact_solver<dim>(prm);
+    contact_condition = ContactCondition<dim>::registry().create(prm);
+    contact_solver    = ContactSolver<dim>::registry().create(prm);
     linear_solver.parse_parameters(prm);
     estimator.parse_parameters(prm);
-    size_predictor = create_size_predictor<dim>(prm);
+    size_predictor = SizePredictor::registry().create(prm, dim);
+    adaptation_target.parse_parameters(prm);
+    if (size_predictor->needs_target_error() && !adaptation_target.enabled())
+      throw InputError("Mesh adaptation/Target error: the " +
+                       size_predictor->name() +
+                       " strategy needs a target error > 0");
     if (size_predictor->uses_estimate() && !estimator.enabled())
       throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
                        "> needs the error estimator (Error estimator/Enable)");
-    if (size_predictor->target_error > 0. && !estimator.enabled())
+    if (adaptation_target.enabled() && !estimator.enabled())
       throw InputError("Mesh adaptation/Target error: needs the error "
                        "estimator (Error estimator/Enable)");
     prm.enter_subsection("Reference solution");
@@ -212,18 +218,33 @@ namespace Signorini
   void
   SignoriniProblem<dim>::check_mesh_sizes() const
   {
-    // the initial mesh before its refinements is cheap to build; every
-    // uniform refinement multiplies its triangles by 4
-    MeshInput<dim> coarse_input      = mesh_input;
-    coarse_input.initial_refinements = 0;
-    Triangulation<dim> coarse;
-    coarse_input.create(coarse);
-    const double n_coarse = coarse.n_active_cells();
-    const auto   cells    = [&](const unsigned int levels) {
-      return n_coarse * std::pow(4., levels);
-    };
+    // The block's cells are counted without building it; a file's coarse
+    // mesh is bounded by the file size, so it is built. Every uniform
+    // refinement multiplies the triangles by 4.
     const std::string limit =
       ", more than Maximum cells = " + cell_count(max_cells);
+    double n_coarse = 0;
+    if (mesh_input.source == "block")
+      {
+        n_coarse = mesh_input.n_block_cells();
+        if (n_coarse > max_cells)
+          throw InputError(
+            "Mesh/Block subdivisions: " +
+            std::to_string(mesh_input.block_subdivisions[0]) + " x " +
+            std::to_string(mesh_input.block_subdivisions[1]) +
+            " rectangles give " + cell_count(n_coarse) + " triangles" + limit);
+      }
+    else
+      {
+        MeshInput<dim> coarse_input      = mesh_input;
+        coarse_input.initial_refinements = 0;
+        Triangulation<dim> coarse;
+        coarse_input.create(coarse);
+        n_coarse = coarse.n_active_cells();
+      }
+    const auto cells = [&](const unsigned int levels) {
+      return n_coarse * std::pow(4., levels);
+    };
     const unsigned int initial = mesh_input.initial_refinements;
     if (cells(initial) > max_cells)
       throw InputError("Mesh/Initial refinements: " + std::to_string(initial) +
@@ -233,7 +254,7 @@ namespace Signorini
     // Without a target error uniform cycles run to the last one; with one,
     // or with adapted meshes, adapt_mesh() checks each mesh before building
     const bool all_uniform_cycles =
-      size_predictor->name() == "uniform" && size_predictor->target_error == 0.;
+      size_predictor->refines_uniformly() && !adaptation_target.enabled();
     if (all_uniform_cycles && cells(initial + n_cycles - 1) > max_cells)
       {
         unsigned int possible = 1;
@@ -450,13 +471,31 @@ namespace Signorini
     stiffness.compress(VectorOperation::add);
     condensed_stiffness.compress(VectorOperation::add);
     load.compress(VectorOperation::add);
+
+    // Finite data can still overflow in the products of the solve (|F|^2,
+    // K times the prescribed displacements): refuse them as input.
+    if (!std::isfinite(load.l2_norm()))
+      throw InputError("Boundary conditions: the loads (tractions, body "
+                       "force) are too large to compute with (their norm "
+                       "overflows); change the units");
+    LA::Vector prescribed(load), reaction(load);
+    prescribed = 0.;
+    for (const auto i : locally_owned_dofs)
+      if (dirichlet_constraints.is_inhomogeneously_constrained(i))
+        prescribed[i] = dirichlet_constraints.get_inhomogeneity(i);
+    prescribed.compress(VectorOperation::insert);
+    stiffness.vmult(reaction, prescribed);
+    if (!std::isfinite(reaction.l2_norm()))
+      throw InputError("Boundary conditions/Dirichlet: the prescribed "
+                       "displacements are too large to compute with (the "
+                       "forces they need overflow); change the units");
   }
 
 
 
   template <int dim>
   void
-  SignoriniProblem<dim>::solve_contact(const unsigned int cycle)
+  SignoriniProblem<dim>::solve_contact()
   {
     Timer setup_timer;
     {
@@ -474,8 +513,8 @@ namespace Signorini
 
     const DiscreteContactProblem<dim> problem = contact_problem();
     problem.check_rigid_motions();
-    Timer                               solve_timer;
-    typename ContactSolver<dim>::Report report;
+    Timer                                solve_timer;
+    typename ContactSolver<dim>::Report &report = contact_summary.report;
     {
       TimerOutput::Scope t(timer, "contact solve");
       solution = 0.;
@@ -490,7 +529,8 @@ namespace Signorini
     // same rule for both solvers, so that their active sets compare).
     const double threshold = 1e-8 * max_norm(dual_solution);
     active_rows.assign(dual_solution.size(), false);
-    unsigned int n_active = 0;
+    unsigned int &n_active = contact_summary.n_active;
+    n_active               = 0;
     previous_contact_state.clear();
     for (unsigned int i = 0; i < dual_solution.size(); ++i)
       {
@@ -503,7 +543,8 @@ namespace Signorini
       }
     const Vector<double> nodal_forces =
       contact_condition->nodal_forces(dual_solution);
-    double contact_force = 0.;
+    double &contact_force = contact_summary.contact_force;
+    contact_force         = 0.;
     for (const double f : nodal_forces)
       contact_force += f;
 
@@ -524,13 +565,16 @@ namespace Signorini
             }
         }
     }
-    const SolutionChecks checks = check_solution(problem,
-                                                 solution,
-                                                 dual_solution,
-                                                 dirichlet_constraints,
-                                                 support_points,
-                                                 dof_component);
-    const double         energy = problem.energy(solution);
+    const SolutionChecks &checks = contact_summary.checks =
+      check_solution(problem,
+                     solution,
+                     dual_solution,
+                     dirichlet_constraints,
+                     support_points,
+                     dof_component);
+    const double energy = contact_summary.energy = problem.energy(solution);
+    contact_summary.setup_seconds                = setup_timer.wall_time();
+    contact_summary.solve_seconds                = solve_timer.wall_time();
     // the solver's word is not enough: the checks decide
     const auto [worst_check, worst_value] = checks.largest();
     last_solve_converged = report.converged && worst_value <= check_tolerance;
@@ -566,61 +610,20 @@ namespace Signorini
     if (print_timing)
       pcout << "   contact solve " << solve_timer.wall_time() << " s"
             << std::endl;
-
-    if (estimator.enabled())
-      estimate_error(problem);
-
-    statistics_table.add_value("cycle", cycle);
-    statistics_table.add_value("cells", triangulation.n_active_cells());
-    statistics_table.add_value("dofs", dof_handler.n_dofs());
-    statistics_table.add_value("nodes", triangulation.n_used_vertices());
-    statistics_table.add_value("predicted_cells", predicted_cells);
-    statistics_table.add_value("green_cells", adaptive_mesh.n_green_cells());
-    statistics_table.add_value("min_angle", minimum_angle(triangulation));
-    statistics_table.add_value("contact_nodes",
-                               contact_condition->n_constraints());
-    statistics_table.add_value("active_nodes", n_active);
-    statistics_table.add_value("condition", contact_condition->name());
-    statistics_table.add_value("solver", contact_solver->name());
-    statistics_table.add_value("linear_solver", linear_solver.method());
-    statistics_table.add_value("iterations", report.iterations);
-    statistics_table.add_value("linear_solves", report.linear_solves);
-    statistics_table.add_value("cg_iterations", report.linear_iterations);
-    statistics_table.add_value("converged", last_solve_converged ? 1u : 0u);
-    statistics_table.add_value("kkt_residual", report.residual);
-    statistics_table.add_value("energy", energy);
-    statistics_table.add_value("contact_force", contact_force);
-    statistics_table.add_value("setup_seconds", setup_timer.wall_time());
-    statistics_table.add_value("solve_seconds", solve_timer.wall_time());
-    statistics_table.add_value("feasibility", checks.feasibility);
-    statistics_table.add_value("multiplier_sign", checks.multiplier_sign);
-    statistics_table.add_value("complementarity", checks.complementarity);
-    statistics_table.add_value("residual", checks.residual);
-    statistics_table.add_value("resultant", checks.resultant);
-    statistics_table.add_value("contact_cells",
-                               contact_boundary.n_contact_cells());
-    if (estimator.enabled())
-      {
-        statistics_table.add_value("e", std::sqrt(estimate.e_squared));
-        statistics_table.add_value("eps", estimate.eps);
-        statistics_table.add_value("eps_contact", estimate.eps_contact);
-        statistics_table.add_value("estimate_seconds", estimate_seconds);
-        statistics_table.add_value("equilibrium_defect",
-                                   estimate.equilibrium_defect);
-        statistics_table.add_value("prolongation_defect",
-                                   estimate.prolongation_defect);
-      }
   }
 
 
 
   template <int dim>
   void
-  SignoriniProblem<dim>::estimate_error(
-    const DiscreteContactProblem<dim> &problem)
+  SignoriniProblem<dim>::estimate_error()
   {
-    TimerOutput::Scope t(timer, "error estimate");
-    Timer              estimate_timer;
+    estimated = false;
+    if (!estimator.enabled() || !last_solve_converged)
+      return;
+    const DiscreteContactProblem<dim> problem = contact_problem();
+    TimerOutput::Scope                t(timer, "error estimate");
+    Timer                             estimate_timer;
     admissible_displacement.reinit(solution);
     estimate         = estimator.estimate(problem,
                                   mapping,
@@ -631,10 +634,64 @@ namespace Signorini
                                   dual_solution,
                                   admissible_displacement);
     estimate_seconds = estimate_timer.wall_time();
+    estimated        = true;
     pcout << "   error in constitutive relation: eps = " << std::setprecision(4)
           << 100. * estimate.eps << " % (contact term "
           << 100. * estimate.eps_contact << " % of e^2)" << std::setprecision(6)
           << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  SignoriniProblem<dim>::record_statistics(const unsigned int cycle)
+  {
+    statistics_table.add_value("cycle", cycle);
+    statistics_table.add_value("cells", triangulation.n_active_cells());
+    statistics_table.add_value("dofs", dof_handler.n_dofs());
+    statistics_table.add_value("nodes", triangulation.n_used_vertices());
+    statistics_table.add_value("predicted_cells", predicted_cells);
+    statistics_table.add_value("green_cells", adaptive_mesh.n_green_cells());
+    statistics_table.add_value("min_angle", minimum_angle(triangulation));
+    statistics_table.add_value("contact_nodes",
+                               contact_condition->n_constraints());
+    statistics_table.add_value("active_nodes", contact_summary.n_active);
+    statistics_table.add_value("condition", contact_condition->name());
+    statistics_table.add_value("solver", contact_solver->name());
+    statistics_table.add_value("linear_solver", linear_solver.method());
+    statistics_table.add_value("iterations", contact_summary.report.iterations);
+    statistics_table.add_value("linear_solves",
+                               contact_summary.report.linear_solves);
+    statistics_table.add_value("cg_iterations",
+                               contact_summary.report.linear_iterations);
+    statistics_table.add_value("converged", last_solve_converged ? 1u : 0u);
+    statistics_table.add_value("kkt_residual", contact_summary.report.residual);
+    statistics_table.add_value("energy", contact_summary.energy);
+    statistics_table.add_value("contact_force", contact_summary.contact_force);
+    statistics_table.add_value("setup_seconds", contact_summary.setup_seconds);
+    statistics_table.add_value("solve_seconds", contact_summary.solve_seconds);
+    statistics_table.add_value("feasibility",
+                               contact_summary.checks.feasibility);
+    statistics_table.add_value("multiplier_sign",
+                               contact_summary.checks.multiplier_sign);
+    statistics_table.add_value("complementarity",
+                               contact_summary.checks.complementarity);
+    statistics_table.add_value("residual", contact_summary.checks.residual);
+    statistics_table.add_value("resultant", contact_summary.checks.resultant);
+    statistics_table.add_value("contact_cells",
+                               contact_boundary.n_contact_cells());
+    if (estimated)
+      {
+        statistics_table.add_value("e", std::sqrt(estimate.e_squared));
+        statistics_table.add_value("eps", estimate.eps);
+        statistics_table.add_value("eps_contact", estimate.eps_contact);
+        statistics_table.add_value("estimate_seconds", estimate_seconds);
+        statistics_table.add_value("equilibrium_defect",
+                                   estimate.equilibrium_defect);
+        statistics_table.add_value("prolongation_defect",
+                                   estimate.condition_defect);
+      }
   }
 
 
@@ -673,9 +730,7 @@ namespace Signorini
   bool
   SignoriniProblem<dim>::target_reached() const
   {
-    const double target = size_predictor->target_error;
-    return target > 0. && estimator.enabled() &&
-           estimate.eps <= target * (1. + size_predictor->tolerance);
+    return estimator.enabled() && adaptation_target.reached(estimate.eps);
   }
 
 
@@ -691,7 +746,8 @@ namespace Signorini
     const std::vector<bool> near_singularity =
       cells_near_singular_points(triangulation, contact_transition_vertices());
     const SizePredictor::Prediction prediction =
-      size_predictor->predict({local_error, near_singularity});
+      size_predictor->predict({local_error, near_singularity},
+                              adaptation_target.target_error);
 
     // h*_E = r_E h_E: the region of E is refined ceil(log2(1 / r_E)) times
     // beyond the level of E (fewer than its level if r_E > 1)
@@ -827,11 +883,16 @@ namespace Signorini
       }
     error_sq = Utilities::MPI::sum(error_sq, mpi_communicator);
     norm_sq  = Utilities::MPI::sum(norm_sq, mpi_communicator);
-    pcout << "   energy-norm error " << std::sqrt(error_sq) << " (relative "
-          << std::sqrt(error_sq / norm_sq) << ")" << std::endl;
+    pcout << "   energy-norm error " << std::sqrt(error_sq);
     statistics_table.add_value("energy_error", std::sqrt(error_sq));
-    statistics_table.add_value("relative_energy_error",
-                               std::sqrt(error_sq / norm_sq));
+    // (undefined for a zero exact solution: left empty)
+    if (norm_sq > 0.)
+      {
+        pcout << " (relative " << std::sqrt(error_sq / norm_sq) << ")";
+        statistics_table.add_value("relative_energy_error",
+                                   std::sqrt(error_sq / norm_sq));
+      }
+    pcout << std::endl;
   }
 
 
@@ -935,7 +996,7 @@ namespace Signorini
     data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
     const CellDataPostprocessor<dim> eps_E("eps_E", estimate.local);
-    if (estimator.enabled())
+    if (estimated)
       data_out.add_data_vector(dof_handler, ghosted, eps_E);
     data_out.build_patches(mapping);
     // one file serially; with N ranks a piece per rank and a .pvtu record
@@ -1223,7 +1284,7 @@ namespace Signorini
       make_grid();
     setup_system();
     assemble_system();
-    solve_contact(0);
+    solve_contact();
   }
 
 
@@ -1308,25 +1369,31 @@ namespace Signorini
                   << std::setprecision(6) << std::endl;
           }
         assemble_system();
-        solve_contact(cycle);
-        if (exact_solution)
-          compute_exact_error();
-        if (reference)
-          compare_with_reference();
-        if (reference_extra_levels > 0 && reference_from_final_mesh)
-          keep_computation();
+        solve_contact();
+        estimate_error();
+        record_statistics(cycle);
+        // a failed computation is written as it is, with nothing built on it
+        if (last_solve_converged)
+          {
+            if (exact_solution)
+              compute_exact_error();
+            if (reference)
+              compare_with_reference();
+            if (reference_extra_levels > 0 && reference_from_final_mesh)
+              keep_computation();
+          }
         output_results(cycle);
         if (!last_solve_converged)
           throw std::runtime_error("cycle " + std::to_string(cycle) + ": " +
                                    solve_failure + " (outputs written)");
         if (target_reached())
           {
-            pcout << "Target error " << 100. * size_predictor->target_error
+            pcout << "Target error " << 100. * adaptation_target.target_error
                   << " % reached" << std::endl;
             break;
           }
-        if (size_predictor->target_error > 0. && cycle + 1 == n_cycles)
-          pcout << "Target error " << 100. * size_predictor->target_error
+        if (adaptation_target.enabled() && cycle + 1 == n_cycles)
+          pcout << "Target error " << 100. * adaptation_target.target_error
                 << " % not reached in " << n_cycles << " computations"
                 << std::endl;
       }

@@ -609,39 +609,322 @@ expect "adapted mesh beyond Maximum cells: cycles 0 and 1 written" \
         [ "$(cut -d, -f1 "$work/out/statistics.csv" | tr "\n" " ")" = "cycle 0 1 " ]'
 
 # An output directory holds one run: a rerun with fewer cycles deletes what
-# the earlier run wrote (its manifest), and nothing the user put there
+# the earlier run wrote (its manifest), and nothing the user put there (a
+# file with a name the run writes is refused: see the hostile section)
 mkdir "$work/rerun"
 printf 'mine\n' > "$work/rerun/notes.txt"
-printf 'mine\n' > "$work/rerun/contact-07.csv"
+printf 'mine\n' > "$work/rerun/contact.csv"
 outdir_prm "$work/rerun.prm" "$work/rerun" "set Number of cycles = 3
 $quiet"
 "$exe" "$work/rerun.prm" > /dev/null 2>&1
 outdir_prm "$work/rerun.prm" "$work/rerun" "set Number of cycles = 1
 $quiet"
 "$exe" "$work/rerun.prm" > /dev/null 2>&1
-want=".signorini-manifest contact-00.csv contact-07.csv notes.txt \
+want=".signorini-manifest contact-00.csv contact.csv notes.txt \
 parameters.prm solution-00.vtu solution.pvd statistics.csv "
 listing=$(LC_ALL=C ls -A "$work/rerun" | tr '\n' ' ')
 expect "rerun with fewer cycles leaves no file of the earlier run" \
   [ "$listing" = "$want" ]
 [ "$listing" = "$want" ] || echo "     (left: $listing)"
 expect "user files in the output directory survive a rerun" \
-  eval '[ "$(cat "$work/rerun/notes.txt" "$work/rerun/contact-07.csv")" = "mine
+  eval '[ "$(cat "$work/rerun/notes.txt" "$work/rerun/contact.csv")" = "mine
 mine" ]'
 
-# a full disk mid-run (a file of cycle 1 is /dev/full): a failed
-# computation naming the file, cycle 0 written
-if [ -c /dev/full ]; then
-  mkdir "$work/full"
-  ln -s /dev/full "$work/full/contact-01.csv"
+# a full disk mid-run (a file of cycle 1 is a /dev/full node, listed as an
+# earlier run's: a link would be refused, a listed regular file deleted): a
+# failed computation naming the file, cycle 0 written
+mkdir "$work/full"
+if mknod "$work/full/contact-01.csv" c 1 7 2> /dev/null; then
+  printf 'contact-01.csv\n' > "$work/full/.signorini-manifest"
   outdir_prm "$work/full.prm" "$work/full" "$quiet"
   check_exit 2 "disk full in cycle 1" "cannot write <.*full/contact-01.csv>: No space left on device" \
     "$work/full.prm"
   expect "disk full in cycle 1: cycle 0 written" \
     [ -f "$work/full/contact-00.csv" -a -f "$work/full/solution-00.vtu" ]
 else
-  echo "ok   (skipped: no /dev/full) disk full in cycle 1"
+  echo "ok   (skipped: no mknod) disk full in cycle 1"
 fi
+
+# --- hostile output directories and MPI ---
+
+# A run writes only files it owns, never through a link
+mkdir "$work/mlink"
+printf 'keep\n' > "$work/victim"
+ln -s "$work/victim" "$work/mlink/.signorini-manifest"
+outdir_prm "$work/od.prm" "$work/mlink" "$quiet"
+check "manifest is a symbolic link" \
+  "Output directory: <.*mlink/.signorini-manifest> is a symbolic link" \
+  "$work/od.prm"
+expect "manifest link: its target untouched" \
+  eval '[ "$(cat "$work/victim")" = keep ]'
+mkdir -p "$work/mdir/.signorini-manifest"
+outdir_prm "$work/od.prm" "$work/mdir" "$quiet"
+check "manifest is a directory (--validate)" \
+  "Output directory: <.*mdir/.signorini-manifest> is a directory" \
+  --validate "$work/od.prm"
+mkdir "$work/own"
+printf 'mine\n' > "$work/own/parameters.prm"
+outdir_prm "$work/od.prm" "$work/own" "$quiet"
+check "user's parameters.prm in the output directory" \
+  "Output directory: <.*own> holds parameters.prm, which no earlier run listed in .signorini-manifest; choose another directory or remove it" \
+  "$work/od.prm"
+check "user's parameters.prm (--validate)" "holds parameters.prm, which no" \
+  --validate "$work/od.prm"
+rm "$work/own/parameters.prm"
+printf 'mine\n' > "$work/own/solution-03.002.vtu"
+check "user's solution piece in the output directory" \
+  "holds solution-03.002.vtu, which no earlier run listed" "$work/od.prm"
+expect "user's files untouched" \
+  eval '[ "$(cat "$work/own/solution-03.002.vtu")" = mine ] &&
+        [ ! -e "$work/own/.signorini-manifest" ]'
+mkdir "$work/slink"
+ln -s "$work/victim" "$work/slink/statistics.csv"
+printf 'statistics.csv\n' > "$work/slink/.signorini-manifest"
+outdir_prm "$work/od.prm" "$work/slink" "$quiet"
+check "statistics.csv a symbolic link (listed)" \
+  "holds statistics.csv, a symbolic link the run would write through" \
+  "$work/od.prm"
+expect "statistics.csv link: its target untouched" \
+  eval '[ "$(cat "$work/victim")" = keep ]'
+# the good paths: a fresh directory, then a rerun into it
+outdir_prm "$work/od.prm" "$work/fresh/dir" "set Number of cycles = 2
+$quiet"
+expect "run into a fresh directory, then a rerun into it" \
+  eval '"$exe" "$work/od.prm" > /dev/null && "$exe" "$work/od.prm" > /dev/null &&
+        [ -f "$work/fresh/dir/contact-01.csv" ]'
+
+# --validate refuses a direct solver package this Trilinos lacks
+case_prm "direct package not built into Trilinos (--validate)" \
+  "Linear solver/Direct solver package = Amesos_Umfpack: not available in this Trilinos build (available: Amesos_Klu" \
+  "subsection Linear solver
+  set Direct solver package = Amesos_Umfpack
+end"
+check "direct package (--validate)" "Amesos_Umfpack: not available" \
+  --validate "$work/case.prm"
+
+# Under MPI, an error met by every rank is one line and a normal exit (no
+# abort). Without -q, Open MPI's mpirun adds its own 9-line note that a
+# process exited non-zero ("Primary job  terminated normally, but 1 process
+# returned a non-zero exit code..."): -q silences it, leaving our line alone.
+# check_mpi CODE NAME EXPECTED NP ARGS...
+check_mpi() {
+  local want=$1 name=$2 expected=$3 np=$4
+  shift 4
+  count=$((count + 1))
+  mpirun -q --oversubscribe -np "$np" "$exe" "$@" > "$work/stdout" 2> "$work/stderr"
+  local code=$?
+  if [ "$code" -ne "$want" ] || [ "$(wc -l < "$work/stderr")" -ne 1 ] ||
+     ! grep -q "^signorini: error: .*$expected" "$work/stderr" ||
+     grep -q -i -E "MPI_ABORT|stacktrace|aborted|segmentation" "$work/stderr" "$work/stdout"; then
+    echo "FAIL $name (exit $code, expected $want):"
+    cat "$work/stderr"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(grep "signorini: error: " "$work/stderr")"
+  fi
+}
+if command -v mpirun > /dev/null; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+  check_mpi 1 "MPI: missing parameter file" "nothere.prm" 2 "$work/nothere.prm"
+  case_prm "Poisson ratio 0.7" "Material/Poisson ratio" \
+    "subsection Material
+  set Poisson ratio = 0.7
+end"
+  check_mpi 1 "MPI: Poisson ratio 0.7" "Material/Poisson ratio" 2 "$work/case.prm"
+  check_mpi 1 "MPI: Poisson ratio 0.7 (--validate, 3 ranks)" \
+    "Material/Poisson ratio" 3 --validate "$work/case.prm"
+  case_prm_exit 2 "adapted mesh beyond Maximum cells (serial)" \
+    "Maximum cells: the adapted mesh of cycle 2" \
+    "set Number of cycles = 3
+subsection Mesh adaptation
+  set Strategy     = optimal size
+  set Target error = 1e-4
+end
+$quiet"
+  check_mpi 2 "MPI: adapted mesh beyond Maximum cells" \
+    "Maximum cells: the adapted mesh of cycle 2" 2 "$work/case.prm"
+  # an error on rank 1 alone (its piece of the solution is a /dev/full
+  # node): it names itself and aborts the job, rank 0 knowing nothing
+  mkdir "$work/piece"
+  if mknod "$work/piece/solution-00.001.vtu" c 1 7 2> /dev/null; then
+    printf 'solution-00.001.vtu\n' > "$work/piece/.signorini-manifest"
+    outdir_prm "$work/od.prm" "$work/piece" "set Number of cycles = 1
+$quiet"
+    count=$((count + 1))
+    mpirun --oversubscribe -np 2 "$exe" "$work/od.prm" > "$work/stdout" 2> "$work/stderr"
+    code=$?
+    if [ "$code" -eq 2 ] &&
+       [ "$(grep -c "signorini: error: " "$work/stderr")" -eq 1 ] &&
+       grep -q "^signorini: error: (rank 1) cannot write <.*solution-00.001.vtu>: No space left" "$work/stderr"; then
+      echo "ok   MPI: write failure on rank 1 alone: $(grep "signorini: error: " "$work/stderr")"
+    else
+      echo "FAIL MPI: write failure on rank 1 alone (exit $code):"
+      cat "$work/stderr"
+      failures=$((failures + 1))
+    fi
+  else
+    echo "ok   (skipped: no mknod) MPI: write failure on rank 1 alone"
+  fi
+else
+  echo "ok   (skipped: no mpirun) MPI cases"
+fi
+
+# --- hostile parameter files ---
+
+# includes: deal.II recurses without limit (a loop was a segfault)
+mkdir -p "$work/inc"
+printf 'include %s/inc/self.prm\n' "$work" > "$work/inc/self.prm"
+check "include of itself" \
+  "include <.*inc/self.prm> line 1 -> <.*inc/self.prm>: the files include each other in a cycle" \
+  "$work/inc/self.prm"
+printf 'include %s/inc/b.prm\n' "$work" > "$work/inc/a.prm"
+printf '# b\ninclude %s/inc/a.prm\n' "$work" > "$work/inc/b.prm"
+check "includes in a loop" \
+  "<.*inc/a.prm> line 1 -> <.*inc/b.prm> line 2 -> <.*inc/a.prm>: the files include each other in a cycle" \
+  "$work/inc/a.prm"
+for i in 0 1 2 3 4 5 6 7 8 9 10 11; do
+  printf '  include %s/inc/d%d.prm\n' "$work" $((i + 1)) > "$work/inc/d$i.prm"
+done
+printf 'set Output directory = %s/out\n' "$work" > "$work/inc/d12.prm"
+check "includes nested too deep" "includes nested deeper than 10" \
+  "$work/inc/d0.prm"
+case_prm "included file missing" \
+  "include <.*case.prm> line 50 -> <no-such.prm>: the included file (relative to the working directory) does not exist" \
+  "include no-such.prm"
+printf 'include %s/inc/none.prm\n' "$work" > "$work/inc/c.prm"
+check "nested included file missing" \
+  "<.*inc/c.prm> line 1 -> <.*inc/none.prm>: the included file does not exist" \
+  "$work/inc/c.prm"
+{ sed '/Output directory/d' "$src/prm/block.prm"
+  printf 'set Output directory = %s/out\n' "$work"; } > "$work/inc/body.prm"
+printf '# the block\n\tinclude %s/inc/body.prm\n' "$work" > "$work/inc/ok.prm"
+valid_prm "include (indented, by tab)" --validate "$work/inc/ok.prm"
+
+# function constants: a clash with a variable was an uncaught
+# mu::ParserError (abort), a constant pi silently 3.14159
+traction_constants() { # CONSTANTS [VARIABLES]: Traction 1 with these
+  printf 'subsection Boundary conditions\n  subsection Traction 1\n'
+  printf '    set Function constants = %s\n' "$1"
+  [ -n "${2:-}" ] && printf '    set Variable names = %s\n' "$2"
+  printf '    set Function expression = 0; -0.1\n  end\nend\n'
+}
+case_prm "constant named x" \
+  "Traction 1: Function constants = p=0.1, x=5: <x> is the name of a variable" \
+  "$(traction_constants 'p=0.1, x=5')"
+case_prm "constant named t" "<t> is the name of a variable" \
+  "$(traction_constants 'p=0.1, t=3')"
+case_prm "constant named like a variable name" \
+  "<u> is the name of a variable (x, y, z, t or Variable names = u,v,t)" \
+  "$(traction_constants 'u=1' 'u,v,t')"
+case_prm "variable named pi" \
+  "Traction 1: Variable names = pi,y,t: <pi> is a predefined constant" \
+  "$(traction_constants '' 'pi,y,t')"
+case_prm "constant named pi" "Function constants = pi=0.1: <pi> is a predefined constant" \
+  "$(traction_constants 'pi=0.1')"
+case_prm "constant named Pi" "<Pi> is a predefined constant" \
+  "$(traction_constants 'Pi=0.1')"
+case_prm "constant named _e" "<_e> is a predefined constant" \
+  "$(traction_constants 'p=0.1, _e=3')"
+case_prm "constant named _pi" "<_pi> is a predefined constant" \
+  "$(traction_constants '_pi=3')"
+
+# command line: one line naming the mistake, with the usage
+usage='; usage: signorini \[--validate\] FILE.prm | --print-parameters | --help$'
+check "no arguments" "no parameter file given$usage"
+check "two files" "too many arguments (2), one parameter file expected$usage" \
+  a.prm b.prm
+check "--validate alone" "--validate needs a parameter file$usage" --validate
+check "unknown option" "unknown option <--frobnicate>$usage" --frobnicate
+check "standard input" "unknown option <->$usage" -
+
+# messages: named file and line, no truncation, no megabyte lines
+printf '[1,2,3]\n' > "$work/array.json"
+check "JSON array" \
+  "<.*array.json>: line 1: a JSON array is not a deal.II parameter file entry" \
+  "$work/array.json"
+printf '{"Material":\n {"Young modulus": [1,2]}}\n' > "$work/value.json"
+check "JSON array value" "<.*value.json>: line 2: a JSON array" "$work/value.json"
+{ cat "$src/prm/block.prm"
+  printf 'subsection Material\n  set Poisson ratio = 0.3\0abc\nend\n'; } \
+  > "$work/nul.prm"
+check "NUL byte" "<.*nul.prm>: contains a NUL byte (binary file?)" "$work/nul.prm"
+case_prm "1 MB parameter name" "line 50: A\{200\}\.\.\.: No entry with name <A\{200\}\.\.\.> was declared" \
+  "set $(head -c 1000000 /dev/zero | tr '\0' A) = 1"
+expect "1 MB parameter name: short message" [ "$(wc -c < "$work/stderr")" -lt 2100 ]
+case_prm "unknown subsection" \
+  "<.*case.prm>: line 50: There is no such subsection to be entered: Materials$" \
+  "subsection Materials
+end"
+
+# --- hostile meshes ---
+
+# the block's cells are counted before it is built: refused at once
+case_prm "3000 x 3000 block (was OOM)" \
+  "Mesh/Block subdivisions: 3000 x 3000 rectangles give 72000000 triangles, more than Maximum cells" \
+  "subsection Mesh
+  set Block subdivisions = 3000, 3000
+end"
+case_prm "largest block subdivisions" \
+  "Mesh/Block subdivisions: 2147483647 x 2147483647 rectangles give 3.69e+19" \
+  "subsection Mesh
+  set Block subdivisions = 2147483647, 2147483647
+end"
+case_prm "block beyond 32-bit cell numbers" \
+  "Mesh/Block subdivisions: 65536 x 65536 rectangles and 0 initial refinements give more than 2e9" \
+  "subsection Mesh
+  set Block subdivisions = 65536, 65536
+end
+set Maximum cells = 1e12
+set Number of cycles = 1"
+case_prm "refinements of a fine block" \
+  "Mesh/Initial refinements: 2 refinements of the 720000 initial cells" \
+  "subsection Mesh
+  set Block subdivisions = 300, 300
+  set Initial refinements = 2
+end"
+
+# msh22_nodes FILE AWK: square-22.msh with AWK applied to each node's x, y
+msh22_nodes() {
+  awk "/^\\\$Nodes/ { n = 1; print; next } /^\\\$EndNodes/ { n = 0 }
+       n && NF == 4 { $2; printf \"%s %.17g %.17g %s\\n\", \$1, x, y, \$4; next }
+       { print }" "$msh22" > "$1"
+}
+# one body only: a second triangle apart, or touching at a corner
+awk '/^\$EndNodes/ { print "13 2 0 0\n14 3 0 0\n15 2 1 0" }
+     $0 == "12" && !n { $0 = "15"; n = 1 } $0 == "22" { $0 = "23" }
+     /^\$EndElements/ { print "23 2 2 1 1 13 14 15" } { print }' "$msh22" \
+  > "$work/two-bodies.msh"
+mesh_case "two separate bodies" \
+  "two-bodies.msh> has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (2.33333, 0.333333)" \
+  "$work/two-bodies.msh"
+awk '/^\$EndNodes/ { print "13 2 1 0\n14 2 2 0" }
+     $0 == "12" && !n { $0 = "14"; n = 1 } $0 == "22" { $0 = "23" }
+     /^\$EndElements/ { print "23 2 2 1 1 4 13 14" } { print }' "$msh22" \
+  > "$work/corner.msh"
+mesh_case "two bodies sharing a corner" \
+  "corner.msh> has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (1.66667, 1.33333)" \
+  "$work/corner.msh"
+
+# extreme scales: refused before the solver sees overflowing numbers
+msh22_nodes "$work/big.msh" 'x = $2 * 1e200; y = $3 * 1e200'
+mesh_case "mesh 1e200 across" \
+  "big.msh>: the mesh is 1.41421e+200 across, outside .1e-100, 1e100.: change the units" \
+  "$work/big.msh"
+msh22_nodes "$work/small.msh" 'x = $2 * 1e-200; y = $3 * 1e-200'
+mesh_case "mesh 1e-200 across" \
+  "small.msh>: the mesh is 1.41421e-200 across, outside .1e-100, 1e100.: change the units" \
+  "$work/small.msh"
+msh22_nodes "$work/far.msh" 'x = $2 * 1e90 + 1e160; y = $3 * 1e90'
+mesh_case "coordinates of 1e160" \
+  "far.msh>: line 6: node 1 has the coordinate 1e+160, beyond 1e150 in absolute value" \
+  "$work/far.msh"
+for scale in 1e90 1e-90; do
+  msh22_nodes "$work/scaled.msh" "x = \$2 * $scale; y = \$3 * $scale"
+  { cat "$src/prm/block.prm"; mesh_prm "$work/scaled.msh"; echo
+    printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
+    printf 'subsection Output\n  set Write vtu = false\nend\n'; } > "$work/case.prm"
+  valid_prm "a computation on the square scaled by $scale" "$work/case.prm"
+done
 
 # --- bodies held by the contact alone; solution checks decide ---
 
@@ -692,6 +975,25 @@ end"
 # --validate finds them before any solve
 check "--validate: roller, no load (the case above)" "no equilibrium" \
   --validate "$work/case.prm"
+# finite data whose products overflow in the solve are refused as input
+case_prm "traction too large to compute with" "loads .* too large" \
+  "subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=1e160
+  end
+end"
+case_prm "body force too large to compute with" "loads .* too large" \
+  "subsection Boundary conditions
+  subsection Body force
+    set Function expression = 0; -1e308*x
+  end
+end"
+case_prm "prescribed displacement too large" "Dirichlet: the prescribed" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Function expression = 1e200; 0
+  end
+end"
 case_prm_exit 2 "solution checks beyond their tolerance" \
   "cycle 0: the solution checks fail: .* > Contact/Check tolerance" \
   "subsection Contact
@@ -712,12 +1014,15 @@ end"
 check "defaults: parse back, no support" "the body is free to move" \
   --validate "$work/defaults.prm"
 
-# and the good paths: --validate accepts the shipped examples
+# and the good paths: --validate accepts the shipped examples (from $work:
+# their relative output directories are the current directory's, and one
+# left there by an older version, without a manifest, is refused)
 count=$((count + 1))
-if "$exe" --validate "$src/prm/block.prm" > /dev/null &&
-   "$exe" --validate "$src/prm/block-adaptive.prm" > /dev/null &&
-   "$exe" --validate "$src/prm/manufactured.prm" > /dev/null &&
-   "$exe" --validate "$src/prm/hertz.prm" > /dev/null; then
+if (exe=$(readlink -f "$exe") && src=$(readlink -f "$src") && cd "$work" &&
+    "$exe" --validate "$src/prm/block.prm" > /dev/null &&
+    "$exe" --validate "$src/prm/block-adaptive.prm" > /dev/null &&
+    "$exe" --validate "$src/prm/manufactured.prm" > /dev/null &&
+    "$exe" --validate "$src/prm/hertz.prm" > /dev/null); then
   echo "ok   --validate of the examples"
 else
   echo "FAIL --validate of the examples"

@@ -99,7 +99,7 @@ main(int argc, char **argv)
                      failures);
         expect_below(star ? "FE equilibrium R(phi_i) = 0" :
                             "prolongation condition",
-                     r.prolongation_defect,
+                     r.condition_defect,
                      1e-10,
                      failures);
         if (star)

@@ -61,9 +61,9 @@ main()
 
   // 1. uniform rate, wide limits: the closed form
   {
-    const OptimalSizePredictor predictor(d, eps_0, q, q, 1e-3, 1e3);
-    const auto                 prediction = predictor.predict({eps_E, regular});
-    double                     sum        = 0.;
+    const OptimalSizePredictor predictor(d, q, q, 1e-3, 1e3);
+    const auto prediction = predictor.predict({eps_E, regular}, eps_0);
+    double     sum        = 0.;
     for (const double e : eps_E)
       sum += std::pow(e, 2. * d / (2. * q + d));
     double deviation = 0.;
@@ -87,8 +87,8 @@ main()
 
   // 2. reduced rate on three cells: constraint and Lagrange condition
   const double               q_singular = 0.5;
-  const OptimalSizePredictor predictor(d, eps_0, q, q_singular, 1e-3, 1e3);
-  const auto                 prediction = predictor.predict({eps_E, singular});
+  const OptimalSizePredictor predictor(d, q, q_singular, 1e-3, 1e3);
+  const auto prediction = predictor.predict({eps_E, singular}, eps_0);
   {
     double constraint = 0., lowest = 1e300, highest = 0.;
     for (unsigned int c = 0; c < n; ++c)
@@ -146,8 +146,8 @@ main()
   {
     const double               minimum = 0.25, maximum = 1.5;
     const double               eps_1 = 0.04;
-    const OptimalSizePredictor limited(d, eps_1, q, q, minimum, maximum);
-    const auto                 p          = limited.predict({eps_E, regular});
+    const OptimalSizePredictor limited(d, q, q, minimum, maximum);
+    const auto                 p = limited.predict({eps_E, regular}, eps_1);
     unsigned int               at_minimum = 0, at_maximum = 0;
     bool                       within = true;
     for (const double r : p.size_ratio)
@@ -164,8 +164,8 @@ main()
                                                                    "TOO LARGE")
             << std::endl;
     // unreachable in one step: every cell at the minimum
-    const OptimalSizePredictor tight(d, 1e-4, q, q, minimum, maximum);
-    const auto                 t = tight.predict({eps_E, regular});
+    const OptimalSizePredictor tight(d, q, q, minimum, maximum);
+    const auto                 t = tight.predict({eps_E, regular}, 1e-4);
     deallog << "unreachable target: all cells at the minimum "
             << (*std::max_element(t.size_ratio.begin(), t.size_ratio.end()) <=
                     minimum * (1. + 1e-12) ?
@@ -178,8 +178,8 @@ main()
   // 5. fixed fraction
   {
     const double                 fraction = 0.5;
-    const FixedFractionPredictor marking(d, 0., fraction);
-    const auto                   p    = marking.predict({eps_E, regular});
+    const FixedFractionPredictor marking(d, fraction);
+    const auto                   p    = marking.predict({eps_E, regular}, 0.);
     double                       held = 0., smallest_marked = 1e300;
     double                       largest_unmarked = 0.;
     unsigned int                 n_marked         = 0;

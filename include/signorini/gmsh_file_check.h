@@ -46,8 +46,10 @@ namespace Signorini
    * z = const, no two nodes at the same point, no triangle of (nearly) zero
    * area, no edge shared by more than two triangles or by two triangles on
    * the same side, no node inside a boundary edge, line elements with a
-   * physical tag on boundary edges). Distances are relative to the diameter
-   * of the mesh (1e-10), areas to its square (1e-12).
+   * physical tag on boundary edges, one body: triangles connected through
+   * shared edges, a diameter in [1e-100, 1e100] and coordinates of at most
+   * 1e150). Distances are relative to the diameter of the mesh (1e-10),
+   * areas to its square (1e-12).
    *
    * Throws InputError whose one-line message names @p path and, where it
    * applies, the line of the file, the element and the nodes (by their Gmsh

@@ -35,9 +35,22 @@ namespace Signorini
   class ElasticitySolver
   {
   public:
+    /// The preconditioner of the CG solves (Linear solver/Type).
+    enum class Type
+    {
+      /// direct up to direct_solver_limit DoFs, AMG above
+      automatic,
+      /// sparse direct factorisation
+      direct,
+      /// Trilinos ML algebraic multigrid
+      amg_cg
+    };
+
+    /// Section Linear solver.
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read it.
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -84,32 +97,43 @@ namespace Signorini
     std::string
     method() const;
 
-    /// Relative residual reduction asked of CG.
-    double
-    tolerance() const;
-
-    /// Choose the method by this size unless forced.
-    std::string             type                = "automatic";
-    std::string             direct_package      = "Amesos_Klu";
+    /// The preconditioner asked for.
+    Type type = Type::automatic;
+    /// Trilinos Amesos package of the direct factorisation.
+    std::string direct_package = "Amesos_Klu";
+    /// With Type::automatic: the largest problem solved with the direct
+    /// factorisation.
     types::global_dof_index direct_solver_limit = 10000;
-    double                  relative_tolerance  = 1e-10;
-    unsigned int            max_iterations      = 5000;
+    /// Relative residual reduction asked of CG.
+    double relative_tolerance = 1e-10;
+    /// CG iteration limit per solve.
+    unsigned int max_iterations = 5000;
 
   private:
     /// (Re)build the direct factorisation or the AMG hierarchy of @p matrix.
     void
     build_preconditioner(const LA::SparseMatrix &matrix);
 
-    const LA::SparseMatrix              *stiffness_matrix = nullptr;
-    const LA::SparseMatrix              *condensed_matrix = nullptr;
-    LA::SparseMatrix                     modified_matrix;
-    std::vector<std::vector<bool>>       translation_modes;
+    /// K (unconstrained)
+    const LA::SparseMatrix *stiffness_matrix = nullptr;
+    /// K condensed with the base constraints
+    const LA::SparseMatrix *condensed_matrix = nullptr;
+    /// The latter with eliminated dofs (update_preconditioner())
+    LA::SparseMatrix modified_matrix;
+    /// Translation modes per component, for AMG
+    std::vector<std::vector<bool>> translation_modes;
+    /// Dofs that hold the free rigid motions (always eliminated)
     std::vector<types::global_dof_index> support_dofs;
+    /// The dofs eliminated in the current preconditioner
     std::vector<types::global_dof_index> current_eliminated_dofs;
-    bool                                 use_direct = true;
+    /// What initialize() chose: direct factorisation or AMG
+    bool use_direct = true;
+    /// The direct factorisation (its solve is not const)
     mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
-    mutable SolverControl                                   direct_control;
-    std::unique_ptr<TrilinosWrappers::PreconditionAMG>      amg;
+    /// The solver control the direct solver needs
+    mutable SolverControl direct_control;
+    /// The AMG hierarchy
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
   };
 } // namespace Signorini
 

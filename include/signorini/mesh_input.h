@@ -13,8 +13,8 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * Where the initial triangle mesh comes from: the block of the paper
-   * (spec section 6.1) generated in place, or an ASCII Gmsh file whose
+   * Where the initial triangle mesh comes from: the block of the paper's
+   * section 7 generated in place, or an ASCII Gmsh file whose
    * physical curve tags become boundary ids (a relative file name is taken
    * from the directory of the parameter file).
    *
@@ -44,6 +44,12 @@ namespace Signorini
     /// read_gmsh_file()).
     void
     create(Triangulation<dim> &triangulation) const;
+
+    /// The number of triangles of the generated block before its
+    /// refinements (8 per rectangle), known without building it; computed
+    /// in double, so that huge subdivisions do not overflow.
+    double
+    n_block_cells() const;
 
     std::string               source = "block";
     std::string               file_name;

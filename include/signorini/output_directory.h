@@ -19,8 +19,11 @@ namespace Signorini
    * mixes two runs (a failing run with fewer cycles would otherwise leave
    * the later cycles of an earlier run beside its own), files the user keeps
    * there are left alone, and the outputs of the completed cycles of a run
-   * that fails later stay. Files of an older version of the program, which
-   * kept no manifest, are not deleted.
+   * that fails later stay. A directory holding a file with a name the run
+   * writes that the manifest does not list (the user's own, or an older
+   * version's, which kept no manifest), or such a name as a symbolic link,
+   * or a manifest that is not a regular file, is refused: the run would
+   * overwrite a file it does not own or write outside the directory.
    *
    * Under MPI, rank 0 keeps the manifest and writes the shared files; it
    * lists the pieces the other ranks write (see record()).
@@ -36,9 +39,10 @@ namespace Signorini
      * verdict shared by every rank, that it exists or can be created and
      * that a file can be created in it (a probe, removed again; directories
      * created for the check are removed too, so that --validate leaves the
-     * disk as it was). Throws an InputError naming "Output directory"
-     * otherwise: an empty name, a regular file, an unwritable parent or
-     * directory.
+     * disk as it was), and that it holds no file the run would overwrite
+     * without owning it (see the class description). Throws an InputError
+     * naming "Output directory" otherwise: an empty name, a regular file,
+     * an unwritable parent or directory, a foreign file or link.
      */
     void
     initialize(const std::string &path, const MPI_Comm comm);

@@ -22,6 +22,7 @@
 
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/adaptation/size_predictor.h>
+#include <signorini/adaptation/target_error.h>
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
@@ -46,7 +47,7 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * The application: the Signorini problem of spec sections 1-2 on a
+   * The application: the Signorini problem of doc/theory.md sections 1-2 on a
    * sequence of meshes ("cycles", or computations), in the style of deal.II
    * step-41/42: make_grid(), setup_system(), assemble_system(),
    * solve_contact(), estimate_error(), output_results(), adapt_mesh(),
@@ -111,7 +112,7 @@ namespace Signorini
     void
     make_grid();
 
-    /// The mesh of @p cycle from the size predictor (spec section 5),
+    /// The mesh of @p cycle from the size predictor (paper section 6),
     /// rebuilt from the initial one; throws if it would exceed Maximum cells.
     void
     adapt_mesh(const unsigned int cycle);
@@ -135,8 +136,17 @@ namespace Signorini
     DiscreteContactProblem<dim>
     contact_problem();
 
+    /// Solve the contact problem of the current mesh and check the solution.
     void
-    solve_contact(const unsigned int cycle);
+    solve_contact();
+
+    /// The error in constitutive relation of the solution (if enabled).
+    void
+    estimate_error();
+
+    /// The statistics row of cycle @p cycle: mesh, solve, checks, estimate.
+    void
+    record_statistics(const unsigned int cycle);
 
     void
     compute_exact_error();
@@ -176,8 +186,7 @@ namespace Signorini
     void
     keep_computation();
 
-    void
-    estimate_error(const DiscreteContactProblem<dim> &problem);
+
 
     /// The active set of the previous cycle carried to the current contact
     /// nodes (empty if there is none or the option is off).
@@ -213,6 +222,7 @@ namespace Signorini
     // an adaptive hierarchy built on the initial mesh
     AdaptiveMesh<dim>              adaptive_mesh;
     std::unique_ptr<SizePredictor> size_predictor;
+    AdaptationTarget               adaptation_target;
     double                         predicted_cells = 0.;
     // Every rank holds the whole mesh (parallel::shared: it accepts
     // simplices and the flat conforming meshes of AdaptiveMesh) and owns a
@@ -255,6 +265,20 @@ namespace Signorini
     Vector<double>    dual_solution;
     std::vector<bool> active_rows; // of the last solve, per multiplier node
     bool              last_solve_converged = true;
+    /// Whether the current computation has an error estimate (the
+    /// estimator is enabled and the computation did not fail).
+    bool estimated = false;
+    /// What solve_contact() found, for the statistics.
+    struct ContactSummary
+    {
+      typename ContactSolver<dim>::Report report;
+      SolutionChecks                      checks;
+      unsigned int                        n_active      = 0;
+      double                              energy        = 0.;
+      double                              contact_force = 0.;
+      double                              setup_seconds = 0.;
+      double                              solve_seconds = 0.;
+    } contact_summary;
     /// Why the last computation failed (solver or solution checks).
     std::string solve_failure;
     /// Largest relative solution check a converged computation may have.

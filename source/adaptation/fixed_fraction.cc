@@ -7,48 +7,46 @@
 namespace Signorini
 {
   FixedFractionPredictor::FixedFractionPredictor(const unsigned int dim,
-                                                 const double target_error,
-                                                 const double fraction)
+                                                 const double       fraction)
     : dim(dim)
     , fraction(fraction)
-  {
-    this->target_error = target_error;
-  }
+  {}
+
+
+
+  FixedFractionPredictor::FixedFractionPredictor(const unsigned int dim)
+    : FixedFractionPredictor(dim, 0.5)
+  {}
 
 
 
   void
   FixedFractionPredictor::declare_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Mesh adaptation");
     prm.declare_entry("Refined fraction",
                       "0.5",
                       Patterns::Double(0., 1.),
                       "Fixed fraction strategy: share of eps^2 held by the "
                       "halved elements.");
+    prm.leave_subsection();
   }
 
 
 
-  FixedFractionPredictor::FixedFractionPredictor(const unsigned int dim,
-                                                 const double      target_error,
-                                                 ParameterHandler &prm)
-    : FixedFractionPredictor(dim,
-                             target_error,
-                             prm.get_double("Refined fraction"))
-  {}
-
-
-
-  std::string
-  FixedFractionPredictor::name() const
+  void
+  FixedFractionPredictor::parse_parameters(ParameterHandler &prm)
   {
-    return "fixed fraction";
+    prm.enter_subsection("Mesh adaptation");
+    fraction = prm.get_double("Refined fraction");
+    prm.leave_subsection();
   }
 
 
 
   SizePredictor::Prediction
-  FixedFractionPredictor::predict(const Input &input) const
+  FixedFractionPredictor::predict(const Input &input,
+                                  const double /*target_error*/) const
   {
     const Vector<double>     &eps_E = input.local_error;
     const unsigned int        n     = eps_E.size();

@@ -7,7 +7,6 @@
 namespace Signorini
 {
   OptimalSizePredictor::OptimalSizePredictor(const unsigned int dim,
-                                             const double       target_error,
                                              const double       rate,
                                              const double       singular_rate,
                                              const double       minimum_ratio,
@@ -17,15 +16,20 @@ namespace Signorini
     , singular_rate(singular_rate)
     , minimum_ratio(minimum_ratio)
     , maximum_ratio(maximum_ratio)
-  {
-    this->target_error = target_error;
-  }
+  {}
+
+
+
+  OptimalSizePredictor::OptimalSizePredictor(const unsigned int dim)
+    : OptimalSizePredictor(dim, 1., 1., 0.0625, 2.)
+  {}
 
 
 
   void
   OptimalSizePredictor::declare_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Mesh adaptation");
     prm.declare_entry("Convergence rate",
                       "1",
                       Patterns::Double(0.05, 10.),
@@ -48,34 +52,37 @@ namespace Signorini
                       Patterns::Double(1., 1e3),
                       "Upper limit of h*_E / h_E in one step (elements may "
                       "grow: each mesh is rebuilt from the initial one).");
+    prm.leave_subsection();
   }
 
 
 
-  OptimalSizePredictor::OptimalSizePredictor(const unsigned int dim,
-                                             const double       target_error,
-                                             ParameterHandler  &prm)
-    : OptimalSizePredictor(dim,
-                           target_error,
-                           prm.get_double("Convergence rate"),
-                           prm.get_double("Singular rate"),
-                           prm.get_double("Minimum size ratio"),
-                           prm.get_double("Maximum size ratio"))
-  {}
-
-
-
-  std::string
-  OptimalSizePredictor::name() const
+  void
+  OptimalSizePredictor::parse_parameters(ParameterHandler &prm)
   {
-    return "optimal size";
+    prm.enter_subsection("Mesh adaptation");
+    rate          = prm.get_double("Convergence rate");
+    singular_rate = prm.get_double("Singular rate");
+    minimum_ratio = prm.get_double("Minimum size ratio");
+    maximum_ratio = prm.get_double("Maximum size ratio");
+    prm.leave_subsection();
+  }
+
+
+
+  bool
+  OptimalSizePredictor::needs_target_error() const
+  {
+    return true;
   }
 
 
 
   SizePredictor::Prediction
-  OptimalSizePredictor::predict(const Input &input) const
+  OptimalSizePredictor::predict(const Input &input,
+                                const double target_error) const
   {
+    Assert(target_error > 0., ExcMessage("optimal sizes need eps_0 > 0"));
     const Vector<double> &eps_E   = input.local_error;
     const unsigned int    n       = eps_E.size();
     const double          d       = dim;

@@ -2,7 +2,6 @@
 #include <signorini/adaptation/optimal_size.h>
 #include <signorini/adaptation/size_predictor.h>
 #include <signorini/adaptation/uniform_refinement.h>
-#include <signorini/input_error.h>
 
 #include <cmath>
 
@@ -29,60 +28,30 @@ namespace Signorini
 
 
 
-  void
-  declare_size_predictor_parameters(ParameterHandler &prm)
+  const Registry<SizePredictor, unsigned int> &
+  SizePredictor::registry()
   {
-    prm.enter_subsection("Mesh adaptation");
-    {
-      prm.declare_entry("Strategy",
-                        "uniform",
-                        Patterns::Selection(
-                          "uniform|optimal size|fixed fraction"),
-                        "How the next mesh follows from eps_E: halve every "
-                        "element, the optimal size map of spec section 5, or "
-                        "halve the elements holding a fixed share of eps^2.");
-      prm.declare_entry("Target error",
-                        "0",
-                        Patterns::Double(0., 1.),
-                        "eps_0, the relative error to reach (0.02 = 2 %); "
-                        "the computations stop once eps <= eps_0 (1 + "
-                        "tolerance). 0: no target, run every cycle.");
-      prm.declare_entry("Tolerance",
-                        "0.05",
-                        Patterns::Double(0., 1.),
-                        "Relative tolerance on the target error.");
-      OptimalSizePredictor::declare_parameters(prm);
-      FixedFractionPredictor::declare_parameters(prm);
-    }
-    prm.leave_subsection();
+    static const Registry<SizePredictor, unsigned int> predictors = [] {
+      Registry<SizePredictor, unsigned int> family(
+        "Mesh adaptation",
+        "Strategy",
+        "How the next mesh follows from eps_E (doc/adaptation.md)");
+      family.add<UniformRefinement>("uniform", "halve every element");
+      family.add<OptimalSizePredictor>(
+        "optimal size",
+        "the optimal size map for eps_0 of the paper's section 6");
+      family.add<FixedFractionPredictor>(
+        "fixed fraction", "halve the elements holding a fixed share of eps^2");
+      return family;
+    }();
+    return predictors;
   }
 
 
 
-  template <int dim>
-  std::unique_ptr<SizePredictor>
-  create_size_predictor(ParameterHandler &prm)
+  const std::string &
+  SizePredictor::name() const
   {
-    prm.enter_subsection("Mesh adaptation");
-    const std::string              strategy = prm.get("Strategy");
-    const double                   target   = prm.get_double("Target error");
-    std::unique_ptr<SizePredictor> predictor;
-    if (strategy == "uniform")
-      predictor = std::make_unique<UniformRefinement>(dim, target);
-    else if (strategy == "fixed fraction")
-      predictor = std::make_unique<FixedFractionPredictor>(dim, target, prm);
-    else
-      {
-        if (target <= 0.)
-          throw InputError("Mesh adaptation/Target error: the optimal size "
-                           "strategy needs a target error > 0");
-        predictor = std::make_unique<OptimalSizePredictor>(dim, target, prm);
-      }
-    predictor->tolerance = prm.get_double("Tolerance");
-    prm.leave_subsection();
-    return predictor;
+    return registry().name_of(*this);
   }
-
-  template std::unique_ptr<SizePredictor>
-  create_size_predictor<2>(ParameterHandler &);
 } // namespace Signorini

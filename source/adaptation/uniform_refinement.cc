@@ -4,12 +4,9 @@
 
 namespace Signorini
 {
-  UniformRefinement::UniformRefinement(const unsigned int dim,
-                                       const double       target_error)
+  UniformRefinement::UniformRefinement(const unsigned int dim)
     : dim(dim)
-  {
-    this->target_error = target_error;
-  }
+  {}
 
 
 
@@ -21,16 +18,17 @@ namespace Signorini
 
 
 
-  std::string
-  UniformRefinement::name() const
+  bool
+  UniformRefinement::refines_uniformly() const
   {
-    return "uniform";
+    return true;
   }
 
 
 
   SizePredictor::Prediction
-  UniformRefinement::predict(const Input &input) const
+  UniformRefinement::predict(const Input &input,
+                             const double /*target_error*/) const
   {
     const unsigned int n = input.local_error.size();
     Vector<double>     size_ratio(n);

@@ -87,15 +87,6 @@ namespace Signorini
 
 
   template <int dim>
-  std::string
-  ActiveSetSolver<dim>::name() const
-  {
-    return "active set";
-  }
-
-
-
-  template <int dim>
   typename ContactSolver<dim>::Report
   ActiveSetSolver<dim>::solve(const DiscreteContactProblem<dim> &problem,
                               LA::Vector                        &u,

@@ -4,10 +4,36 @@
 #include <signorini/contact/condition.h>
 #include <signorini/contact/integral_condition.h>
 #include <signorini/contact/pointwise_condition.h>
-#include <signorini/input_error.h>
 
 namespace Signorini
 {
+  template <int dim>
+  const Registry<ContactCondition<dim>> &
+  ContactCondition<dim>::registry()
+  {
+    static const Registry<ContactCondition<dim>> conditions = [] {
+      Registry<ContactCondition<dim>> family(
+        "Contact", "Condition", "Discrete non-penetration condition");
+      family.template add<IntegralCondition<dim>>("integral",
+                                                  "M q_N <= ghat, [16]");
+      family.template add<PointwiseCondition<dim>>("pointwise",
+                                                   "q_N <= G, [17]");
+      return family;
+    }();
+    return conditions;
+  }
+
+
+
+  template <int dim>
+  const std::string &
+  ContactCondition<dim>::name() const
+  {
+    return registry().name_of(*this);
+  }
+
+
+
   template <int dim>
   unsigned int
   ContactCondition<dim>::n_constraints() const
@@ -198,49 +224,5 @@ namespace Signorini
 
 
 
-  template <int dim>
-  void
-  declare_contact_condition_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Contact");
-    prm.declare_entry("Condition",
-                      "integral",
-                      Patterns::Selection("integral|pointwise"),
-                      "Discrete non-penetration condition: 'integral' (M q_N "
-                      "<= ghat, [16]) or 'pointwise' (q_N <= G, [17]).");
-    prm.leave_subsection();
-  }
-
-
-
-  template <int dim>
-  std::unique_ptr<ContactCondition<dim>>
-  create_contact_condition(const std::string &name)
-  {
-    if (name == "integral")
-      return std::make_unique<IntegralCondition<dim>>();
-    if (name == "pointwise")
-      return std::make_unique<PointwiseCondition<dim>>();
-    throw InputError("Contact/Condition: unknown condition <" + name + ">");
-  }
-
-
-
-  template <int dim>
-  std::unique_ptr<ContactCondition<dim>>
-  create_contact_condition(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Contact");
-    const std::string name = prm.get("Condition");
-    prm.leave_subsection();
-    return create_contact_condition<dim>(name);
-  }
-
   template class ContactCondition<2>;
-  template void
-  declare_contact_condition_parameters<2>(ParameterHandler &);
-  template std::unique_ptr<ContactCondition<2>>
-  create_contact_condition<2>(ParameterHandler &);
-  template std::unique_ptr<ContactCondition<2>>
-  create_contact_condition<2>(const std::string &);
 } // namespace Signorini

@@ -20,6 +20,9 @@ namespace Signorini
 {
   namespace
   {
+    /// The value of Contact/Direction that asks for the normal of GC.
+    const std::string outward_normal = "outward normal";
+
     /// Print "Warning: @p text" on rank 0 unless a warning of this @p kind
     /// was printed before in this process: once per run, not per mesh nor
     /// again for the reference solution's own problem.
@@ -64,7 +67,7 @@ namespace Signorini
                         "Boundary ids forming the candidate contact part GC "
                         "(empty: pure elasticity).");
       prm.declare_entry("Direction",
-                        "outward normal",
+                        outward_normal,
                         Patterns::Anything(),
                         "Unit vector nu_c from the body into the foundation, "
                         "as 'x, y' (normalised on input), or 'outward "
@@ -85,13 +88,14 @@ namespace Signorini
     prm.enter_subsection("Contact");
     {
       ids = parse_boundary_ids(prm.get("Boundary ids"), "Contact/Boundary ids");
-      direction_text = prm.get("Direction");
-      if (direction_text != "outward normal")
+      const std::string direction_text = prm.get("Direction");
+      use_outward_normal               = (direction_text == outward_normal);
+      if (!use_outward_normal)
         {
           const auto entries = Utilities::split_string_list(direction_text);
           if (entries.size() != dim)
             throw InputError("Contact/Direction = <" + direction_text +
-                             ">: expected 'outward normal' or " +
+                             ">: expected '" + outward_normal + "' or " +
                              std::to_string(dim) + " numbers");
           try
             {
@@ -158,9 +162,8 @@ namespace Signorini
     // 1. Nodes, numbered in the order met; faces remembered for step 2.
     node_of_vertex.clear();
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    const bool     use_outward_normal = (direction_text == "outward normal");
-    Tensor<1, dim> first_normal;
-    bool           have_normal = false;
+    Tensor<1, dim>                       first_normal;
+    bool                                 have_normal = false;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         bool cell_touches = false;
@@ -180,7 +183,8 @@ namespace Signorini
               else if (use_outward_normal &&
                        (normal - first_normal).norm() > 1e-8)
                 throw InputError(
-                  "Contact/Direction = outward normal needs a flat contact "
+                  "Contact/Direction = " + outward_normal +
+                  " needs a flat contact "
                   "boundary; GC is curved, give the direction as a vector");
               for (const unsigned int v : cell->face(f)->vertex_indices())
                 {
@@ -411,15 +415,6 @@ namespace Signorini
     const auto it = node_of_vertex.find(vertex);
     Assert(it != node_of_vertex.end(), ExcMessage("vertex not on GC"));
     return it->second;
-  }
-
-
-
-  template <int dim>
-  bool
-  ContactBoundary<dim>::empty() const
-  {
-    return multiplier_node_indices.empty();
   }
 
 

@@ -1,16 +1,8 @@
+#include <signorini/contact/discrete_problem.h>
 #include <signorini/contact/integral_condition.h>
 
 namespace Signorini
 {
-  template <int dim>
-  std::string
-  IntegralCondition<dim>::name() const
-  {
-    return "integral";
-  }
-
-
-
   template <int dim>
   void
   IntegralCondition<dim>::reinit(const ContactBoundary<dim> &boundary)
@@ -41,6 +33,40 @@ namespace Signorini
     for (unsigned int i = 0; i < y.size(); ++i)
       lambda[i] = -y[i];
     return lambda;
+  }
+
+
+
+  template <int dim>
+  AdmissibleContactFields<dim>
+  IntegralCondition<dim>::admissible_fields(
+    const DiscreteContactProblem<dim> &problem,
+    const LA::Vector                  &u_h,
+    const Vector<double>              &y) const
+  {
+    const auto                  &boundary = problem.boundary();
+    AdmissibleContactFields<dim> fields;
+    const Vector<double>         lambda = multiplier(y);
+    fields.normal_reaction.reinit(boundary.n_nodes());
+    for (unsigned int i = 0; i < lambda.size(); ++i)
+      fields.normal_reaction[this->multiplier_node[i]] = lambda[i];
+
+    // U^: the nodal penetrations the integral condition allows removed
+    fields.displacement        = u_h;
+    const Vector<double> q_n   = boundary.normal_components(u_h);
+    const IndexSet       owned = u_h.locally_owned_elements();
+    for (const unsigned int k : this->multiplier_node)
+      {
+        const double excess = q_n[k] - boundary.nodal_gap()[k];
+        if (excess > 0.)
+          for (unsigned int c = 0; c < dim; ++c)
+            if (owned.is_element(boundary.node(k).dofs[c]))
+              fields.displacement[boundary.node(k).dofs[c]] -=
+                excess * boundary.direction()[c];
+      }
+    fields.displacement.compress(VectorOperation::add);
+    fields.equilibrated_displacement = u_h;
+    return fields;
   }
 
   template class IntegralCondition<2>;

@@ -1,15 +1,65 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
+#include <signorini/contact/discrete_problem.h>
 #include <signorini/contact/pointwise_condition.h>
+
+#include <algorithm>
 
 namespace Signorini
 {
-  template <int dim>
-  std::string
-  PointwiseCondition<dim>::name() const
+  namespace
   {
-    return "pointwise";
-  }
+    /**
+     * A body held only by the contact: the clipped reaction
+     * R^ = min(Lambda, 0) no longer balances the load on the free rigid
+     * motions N_j, and no stress is in equilibrium with it. Rescale it node
+     * by node by 1 + sum_j beta_j (nu_c . N_j)(x_k), beta such that
+     * N_j^T (F + forces) = 0; it stays compressive while the factors stay
+     * positive (the clipped part is small next to the compressive one).
+     * Updates @p normal_reaction and its nodal @p forces = M R^.
+     */
+    template <int dim>
+    void
+    balance_on_rigid_motions(const DiscreteContactProblem<dim> &problem,
+                             Vector<double>                    &normal_reaction,
+                             Vector<double>                    &forces)
+    {
+      const FullMatrix<double> normals = problem.rigid_normal_components();
+      const unsigned int       r = normals.n(), n = normals.m();
+      const auto              &mass = problem.boundary().mass_matrix();
+      // work of the forces on the free motions, and its change per beta_l
+      Vector<double> imbalance(problem.rigid_load());
+      normals.Tvmult_add(imbalance, forces);
+      FullMatrix<double> change(r, r);
+      Vector<double>     scaled(n), scaled_forces(n);
+      for (unsigned int l = 0; l < r; ++l)
+        {
+          for (unsigned int k = 0; k < n; ++k)
+            scaled[k] = normal_reaction[k] * normals(k, l);
+          mass.vmult(scaled_forces, scaled);
+          for (unsigned int j = 0; j < r; ++j)
+            for (unsigned int k = 0; k < n; ++k)
+              change(j, l) += normals(k, j) * scaled_forces[k];
+        }
+      change.gauss_jordan();
+      Vector<double> beta(r);
+      change.vmult(beta, imbalance);
+      beta *= -1.;
+      for (unsigned int k = 0; k < n; ++k)
+        {
+          double factor = 1.;
+          for (unsigned int j = 0; j < r; ++j)
+            factor += beta[j] * normals(k, j);
+          AssertThrow(factor >= 0.,
+                      ExcMessage("the contact reaction of a body held only "
+                                 "by the contact cannot be made admissible "
+                                 "(Contact/Condition = pointwise: try "
+                                 "integral)"));
+          normal_reaction[k] *= factor;
+        }
+      mass.vmult(forces, normal_reaction);
+    }
+  } // namespace
 
 
 
@@ -68,6 +118,45 @@ namespace Signorini
     if (lambda.size() > 0)
       multiplier_mass_inverse.solve(lambda);
     return lambda;
+  }
+
+
+
+  template <int dim>
+  AdmissibleContactFields<dim>
+  PointwiseCondition<dim>::admissible_fields(
+    const DiscreteContactProblem<dim> &problem,
+    const LA::Vector                  &u_h,
+    const Vector<double>              &y) const
+  {
+    const auto                  &boundary = problem.boundary();
+    AdmissibleContactFields<dim> fields;
+    const Vector<double>         lambda = multiplier(y);
+    fields.normal_reaction.reinit(boundary.n_nodes());
+    for (unsigned int i = 0; i < lambda.size(); ++i)
+      {
+        fields.normal_reaction[this->multiplier_node[i]] =
+          std::min(lambda[i], 0.);
+        fields.positive_multipliers += (lambda[i] > 0.) ? 1 : 0;
+      }
+    fields.displacement              = u_h;
+    fields.equilibrated_displacement = u_h;
+    if (fields.positive_multipliers > 0)
+      {
+        // nodal forces of R^: (M R^_n)_k nu_c
+        Vector<double> forces(boundary.n_nodes());
+        boundary.mass_matrix().vmult(forces, fields.normal_reaction);
+        if (problem.n_rigid_motions() > 0)
+          balance_on_rigid_motions(problem, fields.normal_reaction, forces);
+        // the preconditioner is that of the last active set: rebuild it for
+        // the operator without contact constraints (it saves CG iterations
+        // on large meshes)
+        problem.update_preconditioner(
+          std::vector<bool>(problem.n_constraints(), false));
+        problem.solve_with_normal_forces(forces,
+                                         fields.equilibrated_displacement);
+      }
+    return fields;
   }
 
   template class PointwiseCondition<2>;

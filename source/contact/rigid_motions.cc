@@ -68,10 +68,20 @@ namespace Signorini
             component[dof] = c;
           }
     const BoundingBox<dim> box(triangulation.get_vertices());
-    centre   = box.center();
-    diameter = std::max(box.get_boundary_points().first.distance(
-                          box.get_boundary_points().second),
-                        1e-300);
+    centre = box.center();
+    // the diagonal of the box, scaled by its largest side so that huge
+    // coordinates do not overflow
+    const auto &[low, high] = box.get_boundary_points();
+    double largest          = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      largest = std::max(largest, high[d] - low[d]);
+    double sum = 0;
+    for (unsigned int d = 0; d < dim && largest > 0; ++d)
+      {
+        const double side = (high[d] - low[d]) / largest;
+        sum += side * side;
+      }
+    diameter = std::max(largest * std::sqrt(sum), 1e-300);
 
     // Gram matrix of the rigid motions on the Dirichlet dofs; its null
     // space is the free motions.

@@ -6,8 +6,6 @@
 #include <deal.II/fe/fe_values.h>
 
 #include <signorini/estimator/constitutive_relation_error.h>
-#include <signorini/estimator/element_equilibration.h>
-#include <signorini/estimator/star_patch_equilibration.h>
 
 #include <numeric>
 
@@ -23,20 +21,8 @@ namespace Signorini
       "true",
       Patterns::Bool(),
       "Compute the error in constitutive relation (eps, eps_E).");
-    prm.declare_entry("Stress reconstruction",
-                      "star patch",
-                      Patterns::Selection("star patch|element equilibration"),
-                      "Construction of sigma^: 'star patch' (flux-free "
-                      "vertex-patch problems; effectivity 1.25-1.7 on the "
-                      "block) or 'element equilibration' (the paper's EET; "
-                      "2.6-3.5), see doc/estimator.md.");
-    prm.enter_subsection("Star patch");
-    StarPatchEquilibration<dim>::declare_parameters(prm);
     prm.leave_subsection();
-    prm.enter_subsection("Element equilibration");
-    ElementEquilibration<dim>::declare_parameters(prm);
-    prm.leave_subsection();
-    prm.leave_subsection();
+    StressReconstruction<dim>::registry().declare_parameters(prm);
   }
 
 
@@ -46,16 +32,9 @@ namespace Signorini
   ConstitutiveRelationError<dim>::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Error estimator");
-    is_enabled               = prm.get_bool("Enable");
-    const std::string choice = prm.get("Stress reconstruction");
-    prm.enter_subsection(choice == "star patch" ? "Star patch" :
-                                                  "Element equilibration");
-    if (choice == "star patch")
-      reconstruction = std::make_unique<StarPatchEquilibration<dim>>(prm);
-    else
-      reconstruction = std::make_unique<ElementEquilibration<dim>>(prm);
+    is_enabled = prm.get_bool("Enable");
     prm.leave_subsection();
-    prm.leave_subsection();
+    reconstruction = StressReconstruction<dim>::registry().create(prm);
   }
 
 
@@ -66,62 +45,6 @@ namespace Signorini
   {
     return is_enabled;
   }
-
-
-
-  namespace
-  {
-    /**
-     * A body held only by the contact: the clipped reaction
-     * R^ = min(Lambda, 0) no longer balances the load on the free rigid
-     * motions N_j, and no stress is in equilibrium with it. Rescale it node
-     * by node by 1 + sum_j beta_j (nu_c . N_j)(x_k), beta such that
-     * N_j^T (F + forces) = 0; it stays compressive while the factors stay
-     * positive (the clipped part is small next to the compressive one).
-     * Updates @p normal_reaction and its nodal @p forces = M R^.
-     */
-    template <int dim>
-    void
-    balance_on_rigid_motions(const DiscreteContactProblem<dim> &problem,
-                             Vector<double>                    &normal_reaction,
-                             Vector<double>                    &forces)
-    {
-      const FullMatrix<double> normals = problem.rigid_normal_components();
-      const unsigned int       r = normals.n(), n = normals.m();
-      const auto              &mass = problem.boundary().mass_matrix();
-      // work of the forces on the free motions, and its change per beta_l
-      Vector<double> imbalance(problem.rigid_load());
-      normals.Tvmult_add(imbalance, forces);
-      FullMatrix<double> change(r, r);
-      Vector<double>     scaled(n), scaled_forces(n);
-      for (unsigned int l = 0; l < r; ++l)
-        {
-          for (unsigned int k = 0; k < n; ++k)
-            scaled[k] = normal_reaction[k] * normals(k, l);
-          mass.vmult(scaled_forces, scaled);
-          for (unsigned int j = 0; j < r; ++j)
-            for (unsigned int k = 0; k < n; ++k)
-              change(j, l) += normals(k, j) * scaled_forces[k];
-        }
-      change.gauss_jordan();
-      Vector<double> beta(r);
-      change.vmult(beta, imbalance);
-      beta *= -1.;
-      for (unsigned int k = 0; k < n; ++k)
-        {
-          double factor = 1.;
-          for (unsigned int j = 0; j < r; ++j)
-            factor += beta[j] * normals(k, j);
-          AssertThrow(factor >= 0.,
-                      ExcMessage("the contact reaction of a body held only "
-                                 "by the contact cannot be made admissible "
-                                 "(Contact/Condition = pointwise: try "
-                                 "integral)"));
-          normal_reaction[k] *= factor;
-        }
-      mass.vmult(forces, normal_reaction);
-    }
-  } // namespace
 
 
 
@@ -138,61 +61,21 @@ namespace Signorini
     LA::Vector                        &admissible_displacement)
   {
     Result      result;
-    const auto &boundary  = problem.boundary();
-    const auto &condition = problem.condition();
-    const bool  integral  = (condition.name() == "integral");
+    const auto &boundary = problem.boundary();
 
-    // R^_n at every node of GC (zero where there is no multiplier)
-    const Vector<double> lambda = condition.multiplier(y);
-    Vector<double>       normal_reaction(boundary.n_nodes());
-    const auto          &multiplier_nodes = boundary.multiplier_nodes();
-    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
-      {
-        normal_reaction[multiplier_nodes[i]] =
-          integral ? lambda[i] : std::min(lambda[i], 0.);
-        result.positive_multipliers += (!integral && lambda[i] > 0.) ? 1 : 0;
-      }
-
-    // U^
-    admissible_displacement = u_h;
-    if (integral)
-      {
-        const Vector<double> q_n   = boundary.normal_components(u_h);
-        const IndexSet       owned = u_h.locally_owned_elements();
-        for (const unsigned int k : multiplier_nodes)
-          {
-            const double excess = q_n[k] - boundary.nodal_gap()[k];
-            if (excess > 0.)
-              for (unsigned int c = 0; c < dim; ++c)
-                if (owned.is_element(boundary.node(k).dofs[c]))
-                  admissible_displacement[boundary.node(k).dofs[c]] -=
-                    excess * boundary.direction()[c];
-          }
-        admissible_displacement.compress(VectorOperation::add);
-      }
-
-    // The displacement whose stress is in FE equilibrium with R^
-    LA::Vector equilibrated(u_h);
-    if (result.positive_multipliers > 0)
-      {
-        // nodal forces of R^: (M R^_n)_k nu_c
-        Vector<double> forces(boundary.n_nodes());
-        boundary.mass_matrix().vmult(forces, normal_reaction);
-        if (problem.n_rigid_motions() > 0)
-          balance_on_rigid_motions(problem, normal_reaction, forces);
-        // the preconditioner is that of the last active set: rebuild it for
-        // the operator without contact constraints (a third of the CG
-        // iterations at 4e5 DoFs)
-        problem.update_preconditioner(
-          std::vector<bool>(problem.n_constraints(), false));
-        problem.solve_with_normal_forces(forces, equilibrated);
-      }
+    // R^, U^ and the displacement whose stress is in FE equilibrium with R^
+    const AdmissibleContactFields<dim> fields =
+      problem.condition().admissible_fields(problem, u_h, y);
+    const Vector<double> &normal_reaction = fields.normal_reaction;
+    result.positive_multipliers           = fields.positive_multipliers;
+    admissible_displacement               = fields.displacement;
 
     // sigma^ and the volume terms, on the cells of this rank (which read
     // the dofs of the cells around them)
     IndexSet relevant;
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    const LA::Vector ghosted_equilibrated = with_ghosts(equilibrated, relevant);
+    const LA::Vector ghosted_equilibrated =
+      with_ghosts(fields.equilibrated_displacement, relevant);
     const LA::Vector ghosted_admissible =
       with_ghosts(admissible_displacement, relevant);
     Vector<double>                error_squared, sum_squared;
@@ -207,8 +90,8 @@ namespace Signorini
                             ghosted_admissible,
                             error_squared,
                             sum_squared);
-    result.equilibrium_defect  = reconstruction->equilibrium_defect();
-    result.prolongation_defect = reconstruction->prolongation_defect();
+    result.equilibrium_defect = reconstruction->equilibrium_defect();
+    result.condition_defect   = reconstruction->condition_defect();
 
     // the contact term 2 int_GC R^_n (W^_n - g), per cell
     result.contact_local.reinit(error_squared.size());

@@ -1,7 +1,5 @@
 #include <deal.II/base/mpi.h>
-#include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
-#include <deal.II/base/work_stream.h>
 
 #include <deal.II/fe/fe_values.h>
 
@@ -14,13 +12,14 @@
 
 #include <signorini/estimator/element_equilibration.h>
 #include <signorini/estimator/local_loops.h>
+#include <signorini/estimator/vertex_patches.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
-#include <exception>
 #include <mutex>
-#include <tuple>
+#include <utility>
 
 namespace Signorini
 {
@@ -63,8 +62,8 @@ namespace Signorini
 
         // G^ab_rs = int_T d_a m_r d_b m_s
         const QWitherdenVincentSimplex<2> rule(std::max(2u, degree));
-        for (auto &g : gradient_products)
-          g.reinit(n_monomials, n_monomials);
+        for (auto &products : gradient_products)
+          products.reinit(n_monomials, n_monomials);
         for (unsigned int q = 0; q < rule.size(); ++q)
           {
             const auto grad = gradients(rule.point(q));
@@ -104,6 +103,7 @@ namespace Signorini
           }
       }
 
+      /// The number of (vector) basis functions.
       unsigned int
       size() const
       {
@@ -143,39 +143,41 @@ namespace Signorini
       FullMatrix<double>
       scalar_coefficients(const Tensor<2, 2> &J, const double h) const
       {
-        FullMatrix<double> T(n_scalars, n_monomials);
+        FullMatrix<double> coefficients(n_scalars, n_monomials);
         for (unsigned int i = 0; i < 2; ++i)
           for (unsigned int a = 0; a < 2; ++a)
-            T(i, a) = J[i][a] / h;
+            coefficients(i, a) = J[i][a] / h;
         for (unsigned int j = 2; j < n_scalars; ++j)
-          T(j, j) = 1.;
-        return T;
+          coefficients(j, j) = 1.;
+        return coefficients;
       }
 
       /**
        * The local stiffness matrix int_E eps(phi_g) : C : eps(phi_f) from
-       * the physical gradient products H^de_jk = int_E d_d s_j d_e s_k and
-       * the constant elasticity matrix D (Voigt, engineering shear).
+       * the physical gradient products H^de_jk = int_E d_d s_j d_e s_k of
+       * the scalar parts (@p coefficients: T of scalar_coefficients()) and
+       * the constant elasticity matrix @p elasticity (Voigt, engineering
+       * shear).
        */
       FullMatrix<double>
-      stiffness(const FullMatrix<double> &T,
+      stiffness(const FullMatrix<double> &coefficients,
                 const Tensor<2, 2>       &J_inverse,
                 const double              det,
-                const FullMatrix<double> &D) const
+                const FullMatrix<double> &elasticity) const
       {
-        std::array<FullMatrix<double>, 4> H;
-        FullMatrix<double>                monomial(n_monomials, n_monomials);
+        std::array<FullMatrix<double>, 4> scalar_products; // H^de
+        FullMatrix<double> monomial_products(n_monomials, n_monomials);
         for (unsigned int d = 0; d < 2; ++d)
           for (unsigned int e = 0; e < 2; ++e)
             {
-              monomial = 0.;
+              monomial_products = 0.;
               for (unsigned int a = 0; a < 2; ++a)
                 for (unsigned int b = 0; b < 2; ++b)
-                  monomial.add(det * J_inverse[a][d] * J_inverse[b][e],
-                               gradient_products[2 * a + b]);
+                  monomial_products.add(det * J_inverse[a][d] * J_inverse[b][e],
+                                        gradient_products[2 * a + b]);
               // H = T M T^T, with T the identity but for rows 0 and 1
-              FullMatrix<double> &h = H[2 * d + e];
-              h.reinit(n_scalars, n_scalars);
+              FullMatrix<double> &products = scalar_products[2 * d + e];
+              products.reinit(n_scalars, n_scalars);
               const auto range = [](const unsigned int j) {
                 return j < 2 ? std::make_pair(0u, 2u) :
                                std::make_pair(j, j + 1);
@@ -186,22 +188,26 @@ namespace Signorini
                        ++r)
                     for (unsigned int t = range(k).first; t < range(k).second;
                          ++t)
-                      h(j, k) += T(j, r) * T(k, t) * monomial(r, t);
+                      products(j, k) += coefficients(j, r) *
+                                        coefficients(k, t) *
+                                        monomial_products(r, t);
             }
-        // A^cc'_de = (B_c^T D B_c')_de, eps_voigt(s e_c) = B_c grad s
-        static constexpr double B[2][3][2]    = {{{1, 0}, {0, 0}, {0, 1}},
-                                                 {{0, 0}, {0, 1}, {1, 0}}};
-        double                  A[2][2][2][2] = {};
+        // coupling^cc'_de = (B_c^T D B_c')_de, eps_voigt(s e_c) = B_c grad s
+        static constexpr double strain_of_gradient[2][3][2] = {
+          {{1, 0}, {0, 0}, {0, 1}}, {{0, 0}, {0, 1}, {1, 0}}};
+        double coupling[2][2][2][2] = {};
         for (unsigned int c = 0; c < 2; ++c)
           for (unsigned int c2 = 0; c2 < 2; ++c2)
             for (unsigned int d = 0; d < 2; ++d)
               for (unsigned int e = 0; e < 2; ++e)
                 for (unsigned int I = 0; I < 3; ++I)
                   for (unsigned int K = 0; K < 3; ++K)
-                    A[c][c2][d][e] += B[c][I][d] * D(I, K) * B[c2][K][e];
+                    coupling[c][c2][d][e] += strain_of_gradient[c][I][d] *
+                                             elasticity(I, K) *
+                                             strain_of_gradient[c2][K][e];
 
         const unsigned int n = size();
-        FullMatrix<double> K(n, n);
+        FullMatrix<double> matrix(n, n);
         for (unsigned int f = 0; f < n; ++f)
           for (unsigned int g = f; g < n; ++g)
             {
@@ -210,20 +216,20 @@ namespace Signorini
                 for (const auto &[k, c2, beta] : functions[g])
                   for (unsigned int d = 0; d < 2; ++d)
                     for (unsigned int e = 0; e < 2; ++e)
-                      value +=
-                        alpha * beta * A[c][c2][d][e] * H[2 * d + e](j, k);
-              K(f, g) = K(g, f) = value;
+                      value += alpha * beta * coupling[c][c2][d][e] *
+                               scalar_products[2 * d + e](j, k);
+              matrix(f, g) = matrix(g, f) = value;
             }
-        return K;
+        return matrix;
       }
 
-      /// int_edge F . phi_f for F linear with values F_start, F_end at the
-      /// ends of reference edge e (of physical length @p length)
+      /// int_edge F . phi_f for F linear with values @p density (at the start
+      /// and end of reference edge @p e, of physical length @p length)
       void
-      add_edge_load(const FullMatrix<double>          &T,
+      add_edge_load(const FullMatrix<double>          &coefficients,
                     const unsigned int                 e,
                     const double                       length,
-                    const std::array<Tensor<1, 2>, 2> &F,
+                    const std::array<Tensor<1, 2>, 2> &density,
                     Vector<double>                    &load) const
       {
         // per scalar part and component: length sum_m F_m[c] (T E^e)_jm
@@ -233,73 +239,1048 @@ namespace Signorini
             {
               double moment = 0.;
               for (unsigned int r = 0; r < n_monomials; ++r)
-                moment += T(j, r) * edge_moments[e](r, m);
+                moment += coefficients(j, r) * edge_moments[e](r, m);
               for (unsigned int c = 0; c < 2; ++c)
-                scalar_load[j][c] += length * F[m][c] * moment;
+                scalar_load[j][c] += length * density[m][c] * moment;
             }
         for (unsigned int f = 0; f < size(); ++f)
           for (const auto &[j, c, alpha] : functions[f])
             load[f] += alpha * scalar_load[j][c];
       }
 
-      /// sum_q w_q f(x_q) . phi_f(x_q) |det| for a reference quadrature
+      /// sum_q w_q f(x_q) . phi_f(x_q) |det| for the body-force rule
       void
-      add_body_load(const FullMatrix<double>          &T,
+      add_body_load(const FullMatrix<double>          &coefficients,
                     const std::vector<Vector<double>> &force,
                     const double                       det,
                     Vector<double>                    &load) const
       {
         for (unsigned int q = 0; q < body_weights.size(); ++q)
           {
-            const std::vector<double> &m = body_values[q];
-            std::vector<double>        s(n_scalars, 0.);
+            const std::vector<double> &monomials = body_values[q];
+            std::vector<double>        scalars(n_scalars, 0.);
             for (unsigned int j = 0; j < n_scalars; ++j)
               for (unsigned int r = 0; r < n_monomials; ++r)
-                s[j] += T(j, r) * m[r];
+                scalars[j] += coefficients(j, r) * monomials[r];
             const double JxW = body_weights[q] * det;
             for (unsigned int f = 0; f < size(); ++f)
               for (const auto &[j, c, alpha] : functions[f])
-                load[f] += alpha * s[j] * force[q][c] * JxW;
+                load[f] += alpha * scalars[j] * force[q][c] * JxW;
           }
       }
 
     private:
+      /// Exponents (of xi, eta) of the reference monomials m_r.
       std::vector<std::array<unsigned int, 2>> exponents;
-      unsigned int                             n_monomials = 0;
-      unsigned int                             n_scalars   = 0;
+      /// Their number.
+      unsigned int n_monomials = 0;
+      /// The number of scalar parts s_j (l_0, l_1, the monomials of degree
+      /// >= 2).
+      unsigned int n_scalars = 0;
+      /// One term alpha s_j e_c of a basis function.
       struct Term
       {
-        unsigned int scalar, component;
-        double       coefficient;
+        /// j
+        unsigned int scalar;
+        /// c
+        unsigned int component;
+        /// alpha
+        double coefficient;
       };
-      std::vector<std::vector<Term>>    functions;
+      /// The basis functions, as sums of terms.
+      std::vector<std::vector<Term>> functions;
+      /// G^ab = int_T d_a m_r d_b m_s, at 2 a + b.
       std::array<FullMatrix<double>, 4> gradient_products;
+      /// E^e_rm = int_0^1 m_r(edge e at s) psi_m(s) ds.
       std::array<FullMatrix<double>, 3> edge_moments;
-      // m_r at the points of the body-force rule, and its weights
+      /// m_r at the points of the body-force rule.
       std::vector<std::vector<double>> body_values;
-      std::vector<double>              body_weights;
+      /// The weights of the body-force rule.
+      std::vector<double> body_weights;
     };
 
-    enum class FaceKind
+
+
+    /// The elasticity matrix (Voigt, engineering shear): energy = e^T D e.
+    FullMatrix<double>
+    elasticity_matrix(const LinearElasticMaterial<2> &material)
     {
-      interior,
-      loaded, // traction part, contact part, or free (zero traction)
-      dirichlet
+      FullMatrix<double>                   elasticity(3, 3);
+      std::array<SymmetricTensor<2, 2>, 3> unit;
+      unit[0][0][0] = 1.;
+      unit[1][1][1] = 1.;
+      unit[2][0][1] = 0.5; // gamma_xy = 1
+      for (unsigned int I = 0; I < 3; ++I)
+        for (unsigned int K = 0; K < 3; ++K)
+          elasticity(I, K) = material.stress(unit[K]) * unit[I];
+      return elasticity;
+    }
+
+
+
+    /// What the patch systems and the element problems need of every needed
+    /// cell (by active cell index).
+    struct CellQuantities
+    {
+      /// sigma_h, the (constant) stress of the equilibrated FE displacement.
+      std::vector<SymmetricTensor<2, 2>> fe_stress;
+      /// eps(U^), constant per cell.
+      std::vector<SymmetricTensor<2, 2>> admissible_strain;
+      /// Q_E(i)[c] = int_E sigma_h : eps(phi_i e_c) - f_d . phi_i e_c for
+      /// the cell's vertices i: what the prolongation condition asks of the
+      /// densities of E on phi_i e_c.
+      std::vector<std::array<Tensor<1, 2>, 3>> prolongation_load;
+      /// Whether f_d is non-zero somewhere (mostly not: its evaluation is
+      /// skipped then).
+      bool body_force_present = false;
     };
 
-    struct FaceData
+
+
+    /// sigma_h, eps(U^) and the prolongation loads of the needed cells, in
+    /// parallel (each cell writes its own entries), with the @p quadrature
+    /// of the assembly so that the prolongation condition holds to round-off.
+    CellQuantities
+    compute_cell_quantities(const EquilibrationInput<2> &input,
+                            const LA::Vector    &admissible_displacement,
+                            const VertexPatches &patches,
+                            const Quadrature<2> &quadrature)
     {
-      unsigned int                first_cell  = numbers::invalid_unsigned_int;
-      unsigned int                second_cell = numbers::invalid_unsigned_int;
+      const DoFHandler<2> &dof_handler = input.dof_handler;
+      const auto          &fe          = dof_handler.get_fe();
+      const auto          &bc          = input.boundary_conditions;
+      const unsigned int   n_cells =
+        dof_handler.get_triangulation().n_active_cells();
+      CellQuantities cells;
+      cells.fe_stress.resize(n_cells);
+      cells.admissible_strain.resize(n_cells);
+      cells.prolongation_load.resize(n_cells);
+
+      const FEValuesExtractors::Vector displacement(0);
+      struct CellScratch
+      {
+        FEValues<2>                        fe_values;
+        std::vector<SymmetricTensor<2, 2>> strain_values;
+        std::vector<Vector<double>>        force;
+        CellScratch(const Mapping<2>       &mapping,
+                    const FiniteElement<2> &fe,
+                    const Quadrature<2>    &quadrature)
+          : fe_values(mapping,
+                      fe,
+                      quadrature,
+                      update_values | update_gradients |
+                        update_quadrature_points | update_JxW_values)
+          , strain_values(quadrature.size())
+          , force(quadrature.size(), Vector<double>(2))
+        {}
+        CellScratch(const CellScratch &other)
+          : CellScratch(other.fe_values.get_mapping(),
+                        other.fe_values.get_fe(),
+                        other.fe_values.get_quadrature())
+        {}
+      };
+      std::atomic<bool> body_force_present{false};
+      for_each_cell(
+        dof_handler,
+        [&](const DoFHandler<2>::active_cell_iterator &cell,
+            CellScratch                               &scratch) {
+          const unsigned int index = cell->active_cell_index();
+          if (!patches.needed(index))
+            return;
+          FEValues<2> &fe_values     = scratch.fe_values;
+          auto        &strain_values = scratch.strain_values;
+          auto        &force         = scratch.force;
+          fe_values.reinit(cell);
+          fe_values[displacement].get_function_symmetric_gradients(
+            input.equilibrated_displacement, strain_values);
+          const SymmetricTensor<2, 2> sigma_h =
+            input.material.stress(strain_values[0]);
+          cells.fe_stress[index] = sigma_h;
+          fe_values[displacement].get_function_symmetric_gradients(
+            admissible_displacement, strain_values);
+          cells.admissible_strain[index] = strain_values[0];
+          bc.body_force->vector_value_list(fe_values.get_quadrature_points(),
+                                           force);
+          for (const auto &value : force)
+            if (value.l2_norm() != 0.)
+              body_force_present = true;
+          for (const unsigned int v : cell->vertex_indices())
+            for (unsigned int c = 0; c < 2; ++c)
+              {
+                const unsigned int i       = fe.component_to_system_index(c, v);
+                double             q_value = 0.;
+                for (const unsigned int q :
+                     fe_values.quadrature_point_indices())
+                  q_value +=
+                    ((sigma_h * fe_values.shape_grad_component(i, q, c))[c] -
+                     force[q][c] * fe_values.shape_value_component(i, q, c)) *
+                    fe_values.JxW(q);
+                cells.prolongation_load[index][v][c] = q_value;
+              }
+        },
+        CellScratch(input.mapping, fe, quadrature));
+      cells.body_force_present = body_force_present;
+      return cells;
+    }
+
+
+
+    /// An edge of the mesh with its traction density F^ (the traction on its
+    /// first cell, VertexPatches::cells_of_edge()).
+    struct EdgeData
+    {
+      /// Global vertex numbers, in the face's order (that of the arrays
+      /// below).
       std::array<unsigned int, 2> vertices;
-      double                      length = 0.;
-      Tensor<1, 2>                normal; // outward from the first cell
-      FaceKind                    kind              = FaceKind::interior;
-      std::array<bool, 2>         unknown_component = {{true, true}};
-      // b(i) = int_G F phi_i for the two vertices, per component
+      /// Length.
+      double length = 0.;
+      /// Unit normal, out of the first cell.
+      Tensor<1, 2> normal;
+      /// The components whose projections the patch systems determine: all
+      /// on interior edges, the Dirichlet ones on the boundary (the others
+      /// are given by F_d and R^).
+      std::array<bool, 2> unknown_component = {{true, true}};
+      /// b_G(i) = int_G F^ phi_i for the two vertices i.
       std::array<Tensor<1, 2>, 2> projection;
-      std::array<Tensor<1, 2>, 2> density; // nodal values of the linear F
+      /// Values of the linear F^ at the two vertices.
+      std::array<Tensor<1, 2>, 2> density;
     };
+
+
+
+    /// The edges of the needed cells: geometry, and on the boundary which
+    /// projections are known and their values (F_d with the assembly's
+    /// @p face_quadrature, R^ exactly).
+    std::vector<EdgeData>
+    describe_edges(const EquilibrationInput<2> &input,
+                   const VertexPatches         &patches,
+                   const Quadrature<1>         &face_quadrature)
+    {
+      const DoFHandler<2> &dof_handler = input.dof_handler;
+      const auto          &fe          = dof_handler.get_fe();
+      const auto          &bc          = input.boundary_conditions;
+      const auto          &contact     = input.contact_boundary;
+      const Tensor<1, 2>   nu_c        = contact.direction();
+      FEFaceValues<2>      fe_face_values(input.mapping,
+                                     fe,
+                                     face_quadrature,
+                                     update_values | update_quadrature_points |
+                                       update_JxW_values |
+                                       update_normal_vectors);
+
+      std::vector<EdgeData> edges(
+        dof_handler.get_triangulation().n_raw_faces());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          const unsigned int index = cell->active_cell_index();
+          if (!patches.needed(index))
+            continue;
+          for (const unsigned int f : cell->face_indices())
+            {
+              const auto face = cell->face(f);
+              if (patches.cells_of_edge(face->index())[0] != index)
+                continue;
+              EdgeData &edge = edges[face->index()];
+              edge.vertices  = {{face->vertex_index(0), face->vertex_index(1)}};
+              edge.length    = face->measure();
+              // unit normal of the straight edge, pointing out of the cell
+              const Tensor<1, 2> tangent = face->vertex(1) - face->vertex(0);
+              edge.normal[0]             = tangent[1] / edge.length;
+              edge.normal[1]             = -tangent[0] / edge.length;
+              if (edge.normal * (face->center() - cell->center()) < 0.)
+                edge.normal *= -1.;
+              if (!face->at_boundary())
+                continue;
+
+              // boundary edge: known traction projections unless Dirichlet;
+              // all the parts naming the id give the union of their Dirichlet
+              // components and the sum of their tractions
+              edge.unknown_component    = {{false, false}};
+              const auto          id    = face->boundary_id();
+              const ComponentMask fixed = bc.dirichlet_mask(id);
+              for (unsigned int c = 0; c < 2; ++c)
+                if (fixed[c])
+                  edge.unknown_component[c] = true;
+              if (bc.has_traction(id))
+                {
+                  fe_face_values.reinit(cell, f);
+                  std::vector<Vector<double>> traction;
+                  bc.traction_values(id,
+                                     fe_face_values.get_quadrature_points(),
+                                     traction);
+                  for (unsigned int k = 0; k < 2; ++k)
+                    for (unsigned int c = 0; c < 2; ++c)
+                      {
+                        const unsigned int i = fe.component_to_system_index(
+                          c, patches.local_vertex(index, edge.vertices[k]));
+                        for (const unsigned int q :
+                             fe_face_values.quadrature_point_indices())
+                          edge.projection[k][c] +=
+                            traction[q][c] *
+                            fe_face_values.shape_value_component(i, q, c) *
+                            fe_face_values.JxW(q);
+                      }
+                }
+              if (contact.boundary_ids().count(id) != 0)
+                {
+                  // R^ = R^_n nu_c, linear on the edge: int R^_n psi_k exactly
+                  const double r0 =
+                    input.normal_reaction[contact.node_index(edge.vertices[0])];
+                  const double r1 =
+                    input.normal_reaction[contact.node_index(edge.vertices[1])];
+                  edge.projection[0] +=
+                    edge.length / 6. * (2. * r0 + r1) * nu_c;
+                  edge.projection[1] +=
+                    edge.length / 6. * (r0 + 2. * r1) * nu_c;
+                }
+            }
+        }
+      return edges;
+    }
+
+
+
+    /// +1 on the first cell of an edge, -1 on the second: the sign of the
+    /// edge's density F^ in the traction of @p cell.
+    double
+    orientation(const VertexPatches &patches,
+                const unsigned int   edge,
+                const unsigned int   cell)
+    {
+      return patches.cells_of_edge(edge)[0] == cell ? 1. : -1.;
+    }
+
+
+
+    /// A direction of the free parameters of one patch system: changing the
+    /// projections by t times the entries keeps the prolongation condition
+    /// for every t.
+    struct FreeDirection
+    {
+      /// The vertex i of the patch.
+      unsigned int vertex;
+      /// The component of the projections it changes.
+      unsigned int component;
+      /// One projection b_G(i) it changes.
+      struct Entry
+      {
+        /// G (face index).
+        unsigned int edge;
+        /// Which vertex of G is i (0 or 1).
+        unsigned int end;
+        /// The change for t = 1.
+        double weight;
+      };
+      /// The projections it changes.
+      std::vector<Entry> entries;
+    };
+
+
+
+    /**
+     * The prolongation condition of the patch of a vertex i, for one
+     * component, as a linear system for its unknown projections:
+     *   sum_G eta_EG b_G(i) = Q_E(i) - (the same sum over the known b_G(i))
+     * for every cell E of the patch, the sums over the edges G of E through
+     * i, eta_EG = orientation().
+     */
+    struct PatchSystem
+    {
+      /// (edge, end) of each unknown projection b_G(i).
+      std::vector<std::pair<unsigned int, unsigned int>> unknowns;
+      /// eta_EG: a row per cell of the patch, a column per unknown (at least
+      /// one column, so that the matrix is never empty).
+      FullMatrix<double> signs;
+      /// The right-hand sides.
+      Vector<double> rhs;
+    };
+
+
+
+    /// The edges of the patch of @p vertex that end there, as (edge, end)
+    /// with edges[edge].vertices[end] == vertex.
+    std::vector<std::pair<unsigned int, unsigned int>>
+    edge_ends_at_vertex(const unsigned int           vertex,
+                        const VertexPatches         &patches,
+                        const std::vector<EdgeData> &edges)
+    {
+      std::vector<std::pair<unsigned int, unsigned int>> ends;
+      for (const unsigned int cell : patches.cells_of_vertex(vertex))
+        for (const unsigned int edge : patches.edges(cell))
+          for (unsigned int end = 0; end < 2; ++end)
+            if (edges[edge].vertices[end] == vertex &&
+                std::find(ends.begin(),
+                          ends.end(),
+                          std::make_pair(edge, end)) == ends.end())
+              ends.emplace_back(edge, end);
+      return ends;
+    }
+
+
+
+    /// The PatchSystem of @p vertex and @p component; @p edge_ends from
+    /// edge_ends_at_vertex().
+    PatchSystem
+    assemble_patch_system(
+      const unsigned int                                        vertex,
+      const unsigned int                                        component,
+      const std::vector<std::pair<unsigned int, unsigned int>> &edge_ends,
+      const VertexPatches                                      &patches,
+      const CellQuantities                                     &cells,
+      const std::vector<EdgeData>                              &edges)
+    {
+      const auto &patch = patches.cells_of_vertex(vertex);
+      PatchSystem system;
+      for (const auto &edge_end : edge_ends)
+        if (edges[edge_end.first].unknown_component[component])
+          system.unknowns.push_back(edge_end);
+      const unsigned int n_unknowns = system.unknowns.size();
+      system.signs.reinit(patch.size(), std::max(n_unknowns, 1u));
+      system.rhs.reinit(patch.size());
+      for (unsigned int row = 0; row < patch.size(); ++row)
+        {
+          const unsigned int cell = patch[row];
+          system.rhs[row] =
+            cells.prolongation_load[cell][patches.local_vertex(cell, vertex)]
+                                   [component];
+          unsigned int column = 0; // of the next unknown among edge_ends
+          for (const auto &[edge, end] : edge_ends)
+            {
+              const bool  unknown    = edges[edge].unknown_component[component];
+              const auto &edge_cells = patches.cells_of_edge(edge);
+              if (edge_cells[0] == cell || edge_cells[1] == cell)
+                {
+                  const double eta = orientation(patches, edge, cell);
+                  if (unknown)
+                    system.signs(row, column) = eta;
+                  else
+                    system.rhs[row] -=
+                      eta * edges[edge].projection[end][component];
+                }
+              if (unknown)
+                ++column;
+            }
+        }
+      return system;
+    }
+
+
+
+    /// The projections of the averaged FE tractions (sigma_h n on the
+    /// boundary) on the unknowns of @p system: the target of the least
+    /// squares choice among the solutions.
+    Vector<double>
+    averaged_fe_projections(const PatchSystem           &system,
+                            const unsigned int           component,
+                            const VertexPatches         &patches,
+                            const CellQuantities        &cells,
+                            const std::vector<EdgeData> &edges)
+    {
+      Vector<double> averaged(system.signs.n());
+      for (unsigned int u = 0; u < system.unknowns.size(); ++u)
+        {
+          const EdgeData &edge = edges[system.unknowns[u].first];
+          const auto     &edge_cells =
+            patches.cells_of_edge(system.unknowns[u].first);
+          Tensor<1, 2> traction = cells.fe_stress[edge_cells[0]] * edge.normal;
+          if (edge_cells[1] != numbers::invalid_unsigned_int)
+            traction =
+              0.5 * (traction + cells.fe_stress[edge_cells[1]] * edge.normal);
+          averaged[u] = traction[component] * edge.length / 2.;
+        }
+      return averaged;
+    }
+
+
+
+    /// The solution of @p system closest to @p target in the least squares
+    /// sense: b = target + A^T (A A^T)^+ (rhs - A target).
+    Vector<double>
+    closest_solution(const PatchSystem &system, const Vector<double> &target)
+    {
+      Vector<double> solution(target);
+      const auto    &signs      = system.signs;
+      const auto     n_rows     = signs.m();
+      const auto     n_unknowns = system.unknowns.size();
+      if (n_unknowns == 0)
+        return solution;
+      Vector<double> defect(n_rows);
+      signs.vmult(defect, target);
+      defect.sadd(-1., 1., system.rhs);
+      // multiplier = (A A^T)^+ defect. Every column of A has one entry (a
+      // Dirichlet edge) or two of opposite signs (an edge shared by two cells
+      // of the patch); in the latter case A A^T has the kernel span{1}
+      // exactly, which adding 1 1^T removes without changing the solution
+      // orthogonal to it (the patch is connected: no other kernel).
+      bool all_shared = true;
+      for (unsigned int u = 0; u < n_unknowns; ++u)
+        {
+          unsigned int entries = 0;
+          for (unsigned int i = 0; i < n_rows; ++i)
+            entries += (signs(i, u) != 0.) ? 1 : 0;
+          all_shared &= (entries == 2);
+        }
+      FullMatrix<double> gram(n_rows, n_rows); // A A^T
+      for (unsigned int i = 0; i < n_rows; ++i)
+        for (unsigned int j = 0; j < n_rows; ++j)
+          {
+            for (unsigned int u = 0; u < n_unknowns; ++u)
+              gram(i, j) += signs(i, u) * signs(j, u);
+            if (all_shared)
+              gram(i, j) += 1.;
+          }
+      gram.gauss_jordan();
+      Vector<double> multiplier(n_rows);
+      gram.vmult(multiplier, defect);
+      Vector<double> correction(n_unknowns);
+      signs.Tvmult(correction, multiplier);
+      for (unsigned int u = 0; u < n_unknowns; ++u)
+        solution[u] += correction[u];
+      return solution;
+    }
+
+
+
+    /// The kernel of the matrix of @p system (by SVD): the directions that
+    /// keep the prolongation condition, the free parameters of the patch.
+    std::vector<FreeDirection>
+    free_directions_of(const PatchSystem &system,
+                       const unsigned int vertex,
+                       const unsigned int component)
+    {
+      const unsigned int n_rows     = system.signs.m(),
+                         n_unknowns = system.unknowns.size();
+      LAPACKFullMatrix<double> svd(n_rows, n_unknowns);
+      for (unsigned int i = 0; i < n_rows; ++i)
+        for (unsigned int u = 0; u < n_unknowns; ++u)
+          svd(i, u) = system.signs(i, u);
+      svd.compute_svd();
+      double       largest = 0.;
+      unsigned int rank    = 0;
+      for (unsigned int i = 0; i < std::min(n_rows, n_unknowns); ++i)
+        largest = std::max(largest, svd.singular_value(i));
+      for (unsigned int i = 0; i < std::min(n_rows, n_unknowns); ++i)
+        rank += (svd.singular_value(i) > 1e-10 * largest) ? 1 : 0;
+      const auto                &right_vectors = svd.get_svd_vt();
+      std::vector<FreeDirection> directions;
+      for (unsigned int r = rank; r < n_unknowns; ++r)
+        {
+          FreeDirection direction;
+          direction.vertex    = vertex;
+          direction.component = component;
+          for (unsigned int u = 0; u < n_unknowns; ++u)
+            if (std::abs(right_vectors(r, u)) > 1e-14)
+              direction.entries.push_back({system.unknowns[u].first,
+                                           system.unknowns[u].second,
+                                           right_vectors(r, u)});
+          directions.push_back(direction);
+        }
+      return directions;
+    }
+
+
+
+    /**
+     * Step 1 of the element equilibration: on every patch this rank treats,
+     * the projections b_G(i) that satisfy the prolongation condition,
+     * closest to the averaged FE tractions; with @p find_free_directions also
+     * the free parameters of all patches (in vertex order, the patches are
+     * then treated serially). Each vertex writes only the projections at its
+     * own end of its edges, so the patches are independent and run in
+     * parallel. Returns the largest residual of the prolongation condition.
+     */
+    double
+    solve_patch_projections(const VertexPatches        &patches,
+                            const CellQuantities       &cells,
+                            std::vector<EdgeData>      &edges,
+                            const bool                  find_free_directions,
+                            std::vector<FreeDirection> &free_directions)
+    {
+      double     max_defect = 0.;
+      std::mutex mutex;
+      const auto solve_patch = [&](const unsigned int vertex) {
+        double                     patch_defect = 0.;
+        std::vector<FreeDirection> patch_directions;
+        const auto edge_ends = edge_ends_at_vertex(vertex, patches, edges);
+        for (unsigned int c = 0; c < 2; ++c)
+          {
+            const PatchSystem system = assemble_patch_system(
+              vertex, c, edge_ends, patches, cells, edges);
+            const Vector<double> projections = closest_solution(
+              system,
+              averaged_fe_projections(system, c, patches, cells, edges));
+            for (unsigned int u = 0; u < system.unknowns.size(); ++u)
+              {
+                const auto &[edge, end]        = system.unknowns[u];
+                edges[edge].projection[end][c] = projections[u];
+              }
+            if (find_free_directions && !system.unknowns.empty())
+              {
+                const auto directions = free_directions_of(system, vertex, c);
+                patch_directions.insert(patch_directions.end(),
+                                        directions.begin(),
+                                        directions.end());
+              }
+            Vector<double> residual(system.rhs.size());
+            if (!system.unknowns.empty())
+              system.signs.vmult(residual, projections);
+            residual -= system.rhs;
+            patch_defect = std::max(patch_defect, residual.linfty_norm());
+          }
+        std::lock_guard<std::mutex> lock(mutex);
+        max_defect = std::max(max_defect, patch_defect);
+        free_directions.insert(free_directions.end(),
+                               patch_directions.begin(),
+                               patch_directions.end());
+      };
+      if (find_free_directions)
+        patches.for_each_patch_in_order(solve_patch);
+      else
+        patches.for_each_patch(solve_patch, 256);
+      return max_defect;
+    }
+
+
+
+    /// The linear densities from the two projections of each edge:
+    /// [b0, b1] = L/6 [[2, 1], [1, 2]] [F0, F1].
+    void
+    densities_from_projections(const VertexPatches   &patches,
+                               std::vector<EdgeData> &edges)
+    {
+      for (unsigned int index = 0; index < edges.size(); ++index)
+        if (patches.cells_of_edge(index)[0] != numbers::invalid_unsigned_int)
+          {
+            EdgeData &edge = edges[index];
+            for (unsigned int c = 0; c < 2; ++c)
+              {
+                const double b0    = edge.projection[0][c],
+                             b1    = edge.projection[1][c];
+                edge.density[0][c] = 2. / edge.length * (2. * b0 - b1);
+                edge.density[1][c] = 2. / edge.length * (2. * b1 - b0);
+              }
+          }
+    }
+
+
+
+    /// The largest residual of the prolongation condition over all ranks
+    /// (@p residual: this rank's) relative to the largest prolongation load.
+    double
+    relative_prolongation_defect(const double          residual,
+                                 const CellQuantities &cells,
+                                 const MPI_Comm        communicator)
+    {
+      double scale = 0.;
+      for (const auto &loads : cells.prolongation_load)
+        for (const auto &load : loads)
+          scale = std::max(scale, load.norm());
+      scale               = Utilities::MPI::max(scale, communicator);
+      const double defect = Utilities::MPI::max(residual, communicator);
+      return scale > 0. ? defect / scale : defect;
+    }
+
+
+
+    /// What the local problem of an element needs of its geometry.
+    struct ElementGeometry
+    {
+      /// x = x0 + J xi.
+      AffineTriangle map;
+      /// The centroid, the point of the moments of the equilibrium check.
+      Point<2> center;
+      /// The longest edge, the scale h of the linear fields of LocalSpace.
+      double diameter;
+      /// Global vertex numbers.
+      std::array<unsigned int, 3> vertices;
+      /// T: the scalar parts of LocalSpace in the reference monomials.
+      FullMatrix<double> scalar_coefficients;
+    };
+
+
+
+    /**
+     * Step 2 of the element equilibration: the local Neumann problems
+     *   find v_E in the LocalSpace of E with int_E K eps(v_E) : eps(w) =
+     *   int_E f_d . w + int_dE eta F^ . w for all w,
+     * so that sigma^ = K eps(v_E) on E. The loads read the current densities
+     * of the edges (the minimisation changes them). The data of each element
+     * are checked for equilibrium (resultant and moment) when its load is
+     * built.
+     */
+    class ElementProblems
+    {
+    public:
+      /// The problems of degree @p degree, the body force integrated with
+      /// @p body_quadrature; references to the arguments are kept.
+      ElementProblems(const unsigned int           degree,
+                      const Quadrature<2>         &body_quadrature,
+                      const EquilibrationInput<2> &input,
+                      const VertexPatches         &patches,
+                      const CellQuantities        &cells,
+                      const std::vector<EdgeData> &edges)
+        : space(degree, body_quadrature)
+        , elasticity(elasticity_matrix(input.material))
+        , body_quadrature(body_quadrature)
+        , input(input)
+        , patches(patches)
+        , cells(cells)
+        , edges(edges)
+      {}
+
+      /// The number of unknowns of a local problem.
+      unsigned int
+      size() const
+      {
+        return space.size();
+      }
+
+      /// The geometry of a needed cell.
+      ElementGeometry
+      geometry(const DoFHandler<2>::active_cell_iterator &cell) const
+      {
+        const unsigned int index    = cell->active_cell_index();
+        double             diameter = 0.;
+        for (const unsigned int edge : patches.edges(index))
+          diameter = std::max(diameter, edges[edge].length);
+        const AffineTriangle map(cell);
+        return {map,
+                cell->center(),
+                diameter,
+                patches.vertices(index),
+                space.scalar_coefficients(map.jacobian, diameter)};
+      }
+
+      /// The local stiffness matrix.
+      FullMatrix<double>
+      stiffness(const ElementGeometry &geometry) const
+      {
+        return space.stiffness(geometry.scalar_coefficients,
+                               geometry.map.inverse_jacobian,
+                               geometry.map.determinant,
+                               elasticity);
+      }
+
+      /// The Cholesky factor of a local stiffness matrix (positive definite:
+      /// the space has no rigid motions).
+      LAPACKFullMatrix<double>
+      factorised(const FullMatrix<double> &stiffness) const
+      {
+        LAPACKFullMatrix<double> factor(size(), size());
+        factor = stiffness;
+        factor.set_property(LAPACKSupport::symmetric);
+        factor.compute_cholesky_factorization();
+        return factor;
+      }
+
+      /// Add the load of a linear density (@p density: values at the
+      /// vertices of @p edge, in the edge's order, taken with the edge's
+      /// orientation on @p cell) to @p load, and if @p resultant is given
+      /// its resultant and moment about the centre.
+      void
+      add_edge_load(const unsigned int                 cell,
+                    const ElementGeometry             &geometry,
+                    const unsigned int                 edge,
+                    const std::array<Tensor<1, 2>, 2> &density,
+                    Vector<double>                    &load,
+                    Tensor<1, 2>                      *resultant,
+                    double                            *moment) const;
+
+      /// The load of a needed cell: its body force (with the rule of the
+      /// assembly, so that the element data are in equilibrium to round-off)
+      /// and the densities of its edges; records the equilibrium defect.
+      Vector<double>
+      load(const DoFHandler<2>::active_cell_iterator &cell,
+           const ElementGeometry                     &geometry) const;
+
+      /// The coefficients of U^ in the local space: l_0 e_x, l_1 e_y,
+      /// l_1 e_x + l_0 e_y carry h eps^_xx, h eps^_yy, h eps^_xy.
+      Vector<double>
+      admissible_coefficients(const unsigned int     cell,
+                              const ElementGeometry &geometry) const
+      {
+        Vector<double> coefficients(size());
+        const auto    &strain = cells.admissible_strain[cell];
+        coefficients[0]       = geometry.diameter * strain[0][0];
+        coefficients[1]       = geometry.diameter * strain[1][1];
+        coefficients[2]       = geometry.diameter * strain[0][1];
+        return coefficients;
+      }
+
+      /// The largest relative defect of the equilibrium of the element data
+      /// (resultant, moment) of the loads built so far.
+      double
+      equilibrium_defect() const
+      {
+        return max_equilibrium_defect;
+      }
+
+    private:
+      /// The local space and its reference integrals.
+      const LocalSpace space;
+      /// The elasticity matrix (Voigt).
+      const FullMatrix<double> elasticity;
+      /// The rule of the body-force loads.
+      const Quadrature<2> body_quadrature;
+      /// The data of the reconstruction.
+      const EquilibrationInput<2> &input;
+      /// The cells and edges of the patches.
+      const VertexPatches &patches;
+      /// sigma_h, eps(U^) and whether there is a body force.
+      const CellQuantities &cells;
+      /// The densities.
+      const std::vector<EdgeData> &edges;
+      /// Guards max_equilibrium_defect (loads are built on worker threads).
+      mutable std::mutex defect_mutex;
+      /// See equilibrium_defect().
+      mutable double max_equilibrium_defect = 0.;
+    };
+
+
+
+    void
+    ElementProblems::add_edge_load(const unsigned int                 cell,
+                                   const ElementGeometry             &geometry,
+                                   const unsigned int                 edge,
+                                   const std::array<Tensor<1, 2>, 2> &density,
+                                   Vector<double>                    &load,
+                                   Tensor<1, 2>                      *resultant,
+                                   double *moment) const
+    {
+      const EdgeData &data = edges[edge];
+      const double    sign = orientation(patches, edge, cell);
+      // the reference edge e joins cell vertices e and e + 1
+      unsigned int reference_edge = 0;
+      bool         reversed       = false;
+      for (; reference_edge < 3; ++reference_edge)
+        {
+          const unsigned int a = geometry.vertices[reference_edge],
+                             b = geometry.vertices[(reference_edge + 1) % 3];
+          if (a == data.vertices[0] && b == data.vertices[1])
+            break;
+          if (b == data.vertices[0] && a == data.vertices[1])
+            {
+              reversed = true;
+              break;
+            }
+        }
+      Assert(reference_edge < 3, ExcInternalError());
+      std::array<Tensor<1, 2>, 2> traction = {
+        {sign * density[0], sign * density[1]}};
+      if (reversed)
+        std::swap(traction[0], traction[1]);
+      space.add_edge_load(geometry.scalar_coefficients,
+                          reference_edge,
+                          data.length,
+                          traction,
+                          load);
+      if (resultant == nullptr)
+        return;
+      // two-point Gauss: exact for the linear integrands
+      const auto &vertices =
+        input.dof_handler.get_triangulation().get_vertices();
+      const Point<2> a = vertices[data.vertices[0]];
+      const Point<2> b = vertices[data.vertices[1]];
+      for (const double s :
+           {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)})
+        {
+          const Tensor<1, 2> value =
+            sign * ((1. - s) * density[0] + s * density[1]);
+          const double JxW = 0.5 * data.length;
+          *resultant += value * JxW;
+          *moment +=
+            cross_product_2d(a + s * (b - a) - geometry.center) * value * JxW;
+        }
+    }
+
+
+
+    Vector<double>
+    ElementProblems::load(const DoFHandler<2>::active_cell_iterator &cell,
+                          const ElementGeometry &geometry) const
+    {
+      const unsigned int index = cell->active_cell_index();
+      Vector<double>     load(size());
+      Tensor<1, 2>       resultant;
+      double             moment = 0., data_scale = 0.;
+      if (cells.body_force_present)
+        {
+          const unsigned int          n_points = body_quadrature.size();
+          std::vector<Point<2>>       points(n_points);
+          std::vector<Vector<double>> force(n_points, Vector<double>(2));
+          for (unsigned int q = 0; q < n_points; ++q)
+            points[q] = geometry.map.origin +
+                        geometry.map.jacobian * body_quadrature.point(q);
+          input.boundary_conditions.body_force->vector_value_list(points,
+                                                                  force);
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              const double JxW =
+                body_quadrature.weight(q) * geometry.map.determinant;
+              const Tensor<1, 2> f({force[q][0], force[q][1]});
+              resultant += f * JxW;
+              moment += cross_product_2d(points[q] - geometry.center) * f * JxW;
+              data_scale += f.norm() * JxW;
+            }
+          space.add_body_load(geometry.scalar_coefficients,
+                              force,
+                              geometry.map.determinant,
+                              load);
+        }
+      for (const unsigned int edge : patches.edges(index))
+        {
+          const EdgeData &data = edges[edge];
+          add_edge_load(
+            index, geometry, edge, data.density, load, &resultant, &moment);
+          data_scale += 0.5 *
+                        (data.density[0].norm() + data.density[1].norm()) *
+                        data.length;
+        }
+      std::lock_guard<std::mutex> lock(defect_mutex);
+      if (data_scale > 0.)
+        max_equilibrium_defect =
+          std::max({max_equilibrium_defect,
+                    resultant.norm() / data_scale,
+                    std::abs(moment) / (data_scale * geometry.diameter)});
+      return load;
+    }
+
+
+
+    /**
+     * The optional choice of the free parameters t that minimises the error
+     * measure over the admissible densities (one rank only):
+     *   J(t) = sum_E ||w_E + sum_d t_d s_Ed||^2_{K_E},
+     * w_E = v_E - U^_E the local error field, s_Ed = K_E^-1 dload_Ed the
+     * response of E to the free direction d. CG on H t = -g with
+     * H_dd' = sum_E dload_Ed . s_Ed' and g_d = sum_E w_E . dload_Ed; the
+     * projections are moved by t (the densities are then to be updated).
+     */
+    void
+    minimise_densities(const ElementProblems            &problems,
+                       const VertexPatches              &patches,
+                       const std::vector<FreeDirection> &free_directions,
+                       const DoFHandler<2>              &dof_handler,
+                       std::vector<EdgeData>            &edges)
+    {
+      const unsigned int n_directions = free_directions.size();
+      std::vector<std::vector<unsigned int>> directions_of_cell(
+        dof_handler.get_triangulation().n_active_cells());
+      for (unsigned int d = 0; d < n_directions; ++d)
+        for (const unsigned int cell :
+             patches.cells_of_vertex(free_directions[d].vertex))
+          directions_of_cell[cell].push_back(d);
+      DynamicSparsityPattern dsp(n_directions, n_directions);
+      for (const auto &directions : directions_of_cell)
+        for (const unsigned int d : directions)
+          for (const unsigned int e : directions)
+            dsp.add(d, e);
+      SparsityPattern sparsity;
+      sparsity.copy_from(dsp);
+      SparseMatrix<double> hessian(sparsity);
+      Vector<double>       gradient(n_directions);
+
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          const unsigned int index      = cell->active_cell_index();
+          const auto        &directions = directions_of_cell[index];
+          if (directions.empty())
+            continue;
+          const ElementGeometry    geometry = problems.geometry(cell);
+          LAPACKFullMatrix<double> stiffness =
+            problems.factorised(problems.stiffness(geometry));
+          Vector<double> error_field = problems.load(cell, geometry);
+          stiffness.solve(error_field);
+          error_field -= problems.admissible_coefficients(index, geometry);
+          std::vector<Vector<double>> delta_load(
+            directions.size(), Vector<double>(problems.size()));
+          std::vector<Vector<double>> response(directions.size());
+          for (unsigned int i = 0; i < directions.size(); ++i)
+            {
+              const auto &direction = free_directions[directions[i]];
+              for (const auto &[edge, end, weight] : direction.entries)
+                {
+                  const auto &edge_cells = patches.cells_of_edge(edge);
+                  if (edge_cells[0] != index && edge_cells[1] != index)
+                    continue;
+                  // the density of the projection change weight at end
+                  const double                length = edges[edge].length;
+                  std::array<Tensor<1, 2>, 2> density;
+                  density[end][direction.component]     = 4. / length * weight;
+                  density[1 - end][direction.component] = -2. / length * weight;
+                  problems.add_edge_load(index,
+                                         geometry,
+                                         edge,
+                                         density,
+                                         delta_load[i],
+                                         nullptr,
+                                         nullptr);
+                }
+              response[i] = delta_load[i];
+              stiffness.solve(response[i]);
+              gradient[directions[i]] += error_field * delta_load[i];
+            }
+          for (unsigned int i = 0; i < directions.size(); ++i)
+            for (unsigned int j = 0; j < directions.size(); ++j)
+              hessian.add(directions[i],
+                          directions[j],
+                          delta_load[i] * response[j]);
+        }
+      Vector<double> step(n_directions);
+      gradient *= -1.;
+      SolverControl                            control(10 * n_directions + 100,
+                            1e-10 * gradient.l2_norm(),
+                            false,
+                            false);
+      SolverCG<Vector<double>>                 cg(control);
+      PreconditionJacobi<SparseMatrix<double>> jacobi;
+      jacobi.initialize(hessian);
+      try
+        {
+          cg.solve(hessian, step, gradient, jacobi);
+        }
+      catch (const SolverControl::NoConvergence &)
+        {
+          // keep the partial minimisation: every step stays admissible
+        }
+      for (unsigned int d = 0; d < n_directions; ++d)
+        for (const auto &[edge, end, weight] : free_directions[d].entries)
+          edges[edge].projection[end][free_directions[d].component] +=
+            step[d] * weight;
+    }
+
+
+
+    /// sigma^ = K eps(v_E) on the locally owned cells (in parallel) and
+    /// ||sigma^ -/+ K eps(U^)||^2_E = (v_E -/+ u^)^T K_E (v_E -/+ u^).
+    void
+    assemble_errors(const ElementProblems &problems,
+                    const DoFHandler<2>   &dof_handler,
+                    Vector<double>        &error_squared,
+                    Vector<double>        &sum_squared)
+    {
+      struct NoScratch
+      {};
+      for_each_cell(
+        dof_handler,
+        [&](const DoFHandler<2>::active_cell_iterator &cell, NoScratch &) {
+          if (!cell->is_locally_owned())
+            return;
+          const unsigned int       index     = cell->active_cell_index();
+          const ElementGeometry    geometry  = problems.geometry(cell);
+          const FullMatrix<double> stiffness = problems.stiffness(geometry);
+          Vector<double>           solution  = problems.load(cell, geometry);
+          problems.factorised(stiffness).solve(solution);
+          const Vector<double> admissible =
+            problems.admissible_coefficients(index, geometry);
+          Vector<double> minus(solution), plus(solution);
+          minus -= admissible;
+          plus += admissible;
+          error_squared[index] = stiffness.matrix_norm_square(minus);
+          sum_squared[index]   = stiffness.matrix_norm_square(plus);
+        },
+        NoScratch());
+    }
   } // namespace
 
 
@@ -334,9 +1315,9 @@ namespace Signorini
 
   template <int dim>
   std::string
-  ElementEquilibration<dim>::name() const
+  ElementEquilibration<dim>::condition() const
   {
-    return "element equilibration";
+    return "the prolongation condition";
   }
 
 
@@ -350,677 +1331,52 @@ namespace Signorini
   {
     static_assert(dim == 2,
                   "the element equilibration is written for triangles");
-    const auto &dof_handler   = input.dof_handler;
-    const auto &triangulation = dof_handler.get_triangulation();
-    const auto &fe            = dof_handler.get_fe();
-    const auto &material      = input.material;
-    const auto &bc            = input.boundary_conditions;
+    const auto &triangulation = input.dof_handler.get_triangulation();
     AssertThrow(!triangulation.has_hanging_nodes(),
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
-
-    const unsigned int n_cells      = triangulation.n_active_cells();
-    const MPI_Comm     communicator = triangulation.get_communicator();
+    const MPI_Comm communicator = triangulation.get_communicator();
     if (optimise_densities && Utilities::MPI::n_mpi_processes(communicator) > 1)
       throw InputError("Error estimator/Element equilibration/Traction "
                        "densities = minimised runs "
                        "on one MPI rank only (its free parameters form one "
                        "global system); use least squares");
 
-    // Under MPI every rank holds the whole mesh and treats the cells it
-    // owns; their local problems need the densities at their vertices, so
-    // the patches of these vertices, so the cells around them ("needed").
-    std::vector<bool>       vertex_of_owned_cell;
-    const std::vector<bool> needed =
-      cells_around_owned_cells(triangulation, vertex_of_owned_cell);
+    const VertexPatches patches(triangulation);
+    error_squared.reinit(triangulation.n_active_cells());
+    sum_squared.reinit(triangulation.n_active_cells());
 
-    error_squared.reinit(n_cells);
-    sum_squared.reinit(n_cells);
-    this->max_equilibrium_defect  = 0.;
-    this->max_prolongation_defect = 0.;
+    // 0. the data, with the rules of the assembly so that the prolongation
+    //    condition and the equilibrium of the element data hold to round-off
+    const QGaussSimplex<dim>     quadrature(3);
+    const QGaussSimplex<dim - 1> face_quadrature(3);
+    const CellQuantities         cells = compute_cell_quantities(
+      input, admissible_displacement, patches, quadrature);
+    std::vector<EdgeData> edges =
+      describe_edges(input, patches, face_quadrature);
 
-    // --- 1. per cell: sigma_h, strain of U^, Q_E(i) --------------------
-    const QGaussSimplex<dim>         quadrature(3); // as in the assembly
-    const QGaussSimplex<dim - 1>     face_quadrature(3);
-    FEValues<dim>                    fe_values(input.mapping,
-                            fe,
-                            quadrature,
-                            update_values | update_gradients |
-                              update_quadrature_points | update_JxW_values);
-    FEFaceValues<dim>                fe_face_values(input.mapping,
-                                     fe,
-                                     face_quadrature,
-                                     update_values | update_quadrature_points |
-                                       update_JxW_values |
-                                       update_normal_vectors);
-    const FEValuesExtractors::Vector displacement(0);
-
-    std::vector<SymmetricTensor<2, dim>>       sigma_h(n_cells);
-    std::vector<SymmetricTensor<2, dim>>       strain_hat(n_cells);
-    std::vector<std::array<Tensor<1, dim>, 3>> Q(n_cells);
-    std::vector<std::array<unsigned int, 3>>   cell_vertices(n_cells);
-    std::vector<std::array<unsigned int, 3>>   cell_faces(n_cells);
-
-    std::vector<FaceData> faces(triangulation.n_raw_faces());
-    const Tensor<1, dim>  nu_c = input.contact_boundary.direction();
-
-    // the cell quantities, cells in parallel (each writes its own entries)
-    struct CellScratch
-    {
-      FEValues<dim>                        fe_values;
-      std::vector<SymmetricTensor<2, dim>> strain_values;
-      std::vector<Vector<double>>          force;
-      CellScratch(const FEValues<dim> &prototype)
-        : fe_values(prototype.get_mapping(),
-                    prototype.get_fe(),
-                    prototype.get_quadrature(),
-                    prototype.get_update_flags())
-        , strain_values(prototype.n_quadrature_points)
-        , force(prototype.n_quadrature_points, Vector<double>(dim))
-      {}
-      CellScratch(const CellScratch &other)
-        : CellScratch(other.fe_values)
-      {}
-    };
-    std::atomic<bool> body_force_present{false};
-    for_each_cell(
-      dof_handler,
-      [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-          CellScratch                                          &scratch) {
-        const unsigned int E = cell->active_cell_index();
-        if (!needed[E])
-          return;
-        FEValues<dim> &fe_values     = scratch.fe_values;
-        auto          &strain_values = scratch.strain_values;
-        auto          &force         = scratch.force;
-        fe_values.reinit(cell);
-        fe_values[displacement].get_function_symmetric_gradients(
-          input.equilibrated_displacement, strain_values);
-        sigma_h[E] = material.stress(strain_values[0]);
-        fe_values[displacement].get_function_symmetric_gradients(
-          admissible_displacement, strain_values);
-        strain_hat[E] = strain_values[0];
-        bc.body_force->vector_value_list(fe_values.get_quadrature_points(),
-                                         force);
-        for (const auto &value : force)
-          if (value.l2_norm() != 0.)
-            body_force_present = true;
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            cell_vertices[E][v] = cell->vertex_index(v);
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                const unsigned int i       = fe.component_to_system_index(c, v);
-                double             q_value = 0.;
-                for (const unsigned int q :
-                     fe_values.quadrature_point_indices())
-                  q_value +=
-                    ((sigma_h[E] * fe_values.shape_grad_component(i, q, c))[c] -
-                     force[q][c] * fe_values.shape_value_component(i, q, c)) *
-                    fe_values.JxW(q);
-                Q[E][v][c] = q_value;
-              }
-          }
-
-        for (const unsigned int f : cell->face_indices())
-          cell_faces[E][f] = cell->face(f)->index();
-      },
-      CellScratch(fe_values));
-
-    // the faces, in cell order (which cell is "first" must not depend on
-    // the thread schedule)
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        const unsigned int E = cell->active_cell_index();
-        if (!needed[E])
-          continue;
-        for (const unsigned int f : cell->face_indices())
-          {
-            const auto face = cell->face(f);
-            FaceData  &data = faces[face->index()];
-            if (data.first_cell != numbers::invalid_unsigned_int)
-              {
-                data.second_cell = E;
-                continue;
-              }
-            data.first_cell = E;
-            data.vertices   = {{face->vertex_index(0), face->vertex_index(1)}};
-            data.length     = face->measure();
-            // unit normal of the straight edge, pointing out of the cell
-            const Tensor<1, dim> tangent = face->vertex(1) - face->vertex(0);
-            data.normal[0]               = tangent[1] / data.length;
-            data.normal[1]               = -tangent[0] / data.length;
-            if (data.normal * (face->center() - cell->center()) < 0.)
-              data.normal *= -1.;
-            if (!face->at_boundary())
-              continue;
-
-            // boundary face: known traction projections unless Dirichlet
-            data.kind              = FaceKind::loaded;
-            data.unknown_component = {{false, false}};
-            const auto id          = face->boundary_id();
-            // all the parts naming the id: the union of their Dirichlet
-            // components, the sum of their tractions
-            const ComponentMask fixed = bc.dirichlet_mask(id);
-            for (unsigned int c = 0; c < dim; ++c)
-              if (fixed[c])
-                {
-                  data.kind                 = FaceKind::dirichlet;
-                  data.unknown_component[c] = true;
-                }
-            // cell-local numbers of the face vertices
-            std::array<unsigned int, 2> local_vertex;
-            for (unsigned int k = 0; k < 2; ++k)
-              for (const unsigned int w : cell->vertex_indices())
-                if (cell->vertex_index(w) == data.vertices[k])
-                  local_vertex[k] = w;
-            if (bc.has_traction(id))
-              {
-                fe_face_values.reinit(cell, f);
-                std::vector<Vector<double>> traction;
-                bc.traction_values(id,
-                                   fe_face_values.get_quadrature_points(),
-                                   traction);
-                for (unsigned int k = 0; k < 2; ++k)
-                  for (unsigned int c = 0; c < dim; ++c)
-                    {
-                      const unsigned int i =
-                        fe.component_to_system_index(c, local_vertex[k]);
-                      for (const unsigned int q :
-                           fe_face_values.quadrature_point_indices())
-                        data.projection[k][c] +=
-                          traction[q][c] *
-                          fe_face_values.shape_value_component(i, q, c) *
-                          fe_face_values.JxW(q);
-                    }
-              }
-            if (input.contact_boundary.boundary_ids().count(id) != 0)
-              {
-                // R^ = R^_n nu_c, linear on the edge: int R^_n psi_k exactly
-                const double r0 =
-                  input.normal_reaction[input.contact_boundary.node_index(
-                    data.vertices[0])];
-                const double r1 =
-                  input.normal_reaction[input.contact_boundary.node_index(
-                    data.vertices[1])];
-                data.projection[0] += data.length / 6. * (2. * r0 + r1) * nu_c;
-                data.projection[1] += data.length / 6. * (r0 + 2. * r1) * nu_c;
-              }
-          }
-      }
-
-    // --- 2. vertex patches: edge projections b_G(i) ----------------------
-    struct FreeDirection
-    {
-      unsigned int vertex, component;
-      std::vector<std::tuple<unsigned int, unsigned int, double>> entries;
-    };
-    std::vector<FreeDirection>             free_directions;
-    std::vector<std::vector<unsigned int>> cells_of_vertex(
-      triangulation.n_vertices());
-    for (unsigned int E = 0; E < n_cells; ++E)
-      if (needed[E])
-        for (unsigned int v = 0; v < 3; ++v)
-          cells_of_vertex[cell_vertices[E][v]].push_back(E);
-
-    // Each vertex writes only the projections b_G(i) at its own end of its
-    // edges, so the patches are independent (run in parallel below).
-    std::mutex patch_mutex;
-    const auto process_patch = [&](const unsigned int vertex) {
-      const auto &patch = cells_of_vertex[vertex];
-      if (patch.empty() || !vertex_of_owned_cell[vertex])
-        return;
-      double                     patch_defect = 0.;
-      std::vector<FreeDirection> patch_directions;
-      // faces of the patch incident to the vertex, and which end it is
-      std::vector<std::pair<unsigned int, unsigned int>> patch_faces;
-      for (const unsigned int E : patch)
-        for (const unsigned int f : cell_faces[E])
-          {
-            const FaceData &data = faces[f];
-            for (unsigned int k = 0; k < 2; ++k)
-              if (data.vertices[k] == vertex &&
-                  std::find(patch_faces.begin(),
-                            patch_faces.end(),
-                            std::make_pair(f, k)) == patch_faces.end())
-                patch_faces.emplace_back(f, k);
-          }
-      for (unsigned int c = 0; c < dim; ++c)
-        {
-          std::vector<unsigned int> unknown; // positions in patch_faces
-          for (unsigned int p = 0; p < patch_faces.size(); ++p)
-            if (faces[patch_faces[p].first].unknown_component[c])
-              unknown.push_back(p);
-          const unsigned int n_eq = patch.size(), n_un = unknown.size();
-          FullMatrix<double> A(n_eq, std::max(n_un, 1u));
-          Vector<double>     rhs(n_eq), b_bar(std::max(n_un, 1u));
-          for (unsigned int e = 0; e < n_eq; ++e)
-            {
-              const unsigned int E = patch[e];
-              unsigned int       v = 0;
-              while (cell_vertices[E][v] != vertex)
-                ++v;
-              rhs[e] = Q[E][v][c];
-              for (unsigned int p = 0; p < patch_faces.size(); ++p)
-                {
-                  const auto &[f, k]   = patch_faces[p];
-                  const FaceData &data = faces[f];
-                  if (data.first_cell != E && data.second_cell != E)
-                    continue;
-                  const double eta = (data.first_cell == E) ? 1. : -1.;
-                  const auto it = std::find(unknown.begin(), unknown.end(), p);
-                  if (it != unknown.end())
-                    A(e, it - unknown.begin()) = eta;
-                  else
-                    rhs[e] -= eta * data.projection[k][c];
-                }
-            }
-          for (unsigned int u = 0; u < n_un; ++u)
-            {
-              const auto &[f, k]   = patch_faces[unknown[u]];
-              const FaceData &data = faces[f];
-              Tensor<1, dim>  t    = sigma_h[data.first_cell] * data.normal;
-              if (data.second_cell != numbers::invalid_unsigned_int)
-                t = 0.5 * (t + sigma_h[data.second_cell] * data.normal);
-              b_bar[u] = t[c] * data.length / 2.;
-            }
-          Vector<double> b(b_bar);
-          if (n_un > 0)
-            {
-              // b = b_bar + A^T (A A^T)^+ (rhs - A b_bar)
-              Vector<double> defect(n_eq);
-              A.vmult(defect, b_bar);
-              defect.sadd(-1., 1., rhs);
-              // lambda = (A A^T)^+ defect. Every column of A has one
-              // entry (a Dirichlet edge) or two of opposite signs (an
-              // edge shared by two cells of the patch); in the latter
-              // case A A^T has the kernel span{1} exactly, which adding
-              // 1 1^T removes without changing the solution orthogonal to
-              // it (the patch is connected, so there is no other kernel).
-              bool all_shared = true;
-              for (unsigned int u = 0; u < n_un; ++u)
-                {
-                  unsigned int entries = 0;
-                  for (unsigned int i = 0; i < n_eq; ++i)
-                    entries += (A(i, u) != 0.) ? 1 : 0;
-                  all_shared &= (entries == 2);
-                }
-              FullMatrix<double> AAt(n_eq, n_eq);
-              for (unsigned int i = 0; i < n_eq; ++i)
-                for (unsigned int j = 0; j < n_eq; ++j)
-                  {
-                    for (unsigned int u = 0; u < n_un; ++u)
-                      AAt(i, j) += A(i, u) * A(j, u);
-                    if (all_shared)
-                      AAt(i, j) += 1.;
-                  }
-              AAt.gauss_jordan();
-              Vector<double> lambda(n_eq);
-              AAt.vmult(lambda, defect);
-              Vector<double> correction(n_un);
-              A.Tvmult(correction, lambda);
-              for (unsigned int u = 0; u < n_un; ++u)
-                {
-                  b[u] += correction[u];
-                  const auto &[f, k]        = patch_faces[unknown[u]];
-                  faces[f].projection[k][c] = b[u];
-                }
-            }
-          // directions b -> b + t z, A z = 0, that keep the prolongation
-          // condition: the free parameters of the patch
-          if (optimise_densities && n_un > 0)
-            {
-              LAPACKFullMatrix<double> A_svd(n_eq, n_un);
-              for (unsigned int i = 0; i < n_eq; ++i)
-                for (unsigned int u = 0; u < n_un; ++u)
-                  A_svd(i, u) = A(i, u);
-              A_svd.compute_svd();
-              double       largest = 0.;
-              unsigned int rank    = 0;
-              for (unsigned int i = 0; i < std::min(n_eq, n_un); ++i)
-                largest = std::max(largest, A_svd.singular_value(i));
-              for (unsigned int i = 0; i < std::min(n_eq, n_un); ++i)
-                rank += (A_svd.singular_value(i) > 1e-10 * largest) ? 1 : 0;
-              const auto &vt = A_svd.get_svd_vt();
-              for (unsigned int r = rank; r < n_un; ++r)
-                {
-                  FreeDirection direction;
-                  direction.vertex    = vertex;
-                  direction.component = c;
-                  for (unsigned int u = 0; u < n_un; ++u)
-                    if (std::abs(vt(r, u)) > 1e-14)
-                      direction.entries.emplace_back(
-                        patch_faces[unknown[u]].first,
-                        patch_faces[unknown[u]].second,
-                        vt(r, u));
-                  patch_directions.push_back(direction);
-                }
-            }
-          // prolongation condition residual of this patch
-          Vector<double> check(n_eq);
-          if (n_un > 0)
-            A.vmult(check, b);
-          check -= rhs;
-          patch_defect = std::max(patch_defect, check.linfty_norm());
-        }
-      std::lock_guard<std::mutex> lock(patch_mutex);
-      this->max_prolongation_defect =
-        std::max(this->max_prolongation_defect, patch_defect);
-      free_directions.insert(free_directions.end(),
-                             patch_directions.begin(),
-                             patch_directions.end());
-    };
-    // (serial with the optimised densities, whose free directions must come
-    // in a fixed order)
-    if (optimise_densities)
-      for (unsigned int vertex = 0; vertex < cells_of_vertex.size(); ++vertex)
-        process_patch(vertex);
-    else
-      parallel::apply_to_subranges(
-        0u,
-        static_cast<unsigned int>(cells_of_vertex.size()),
-        [&](const unsigned int begin, const unsigned int end) {
-          for (unsigned int vertex = begin; vertex < end; ++vertex)
-            process_patch(vertex);
-        },
-        256);
-
-
-    double q_scale = 0.;
-    for (const auto &q_cell : Q)
-      for (const auto &q_vertex : q_cell)
-        q_scale = std::max(q_scale, q_vertex.norm());
-    q_scale = Utilities::MPI::max(q_scale, communicator);
-    this->max_prolongation_defect =
-      Utilities::MPI::max(this->max_prolongation_defect, communicator);
-    if (q_scale > 0.)
-      this->max_prolongation_defect /= q_scale;
-
-    // --- 3. linear densities from the two projections of each edge --------
-    // [b0, b1] = L/6 [[2, 1], [1, 2]] [F0, F1]
-    const auto update_densities = [&]() {
-      for (auto &data : faces)
-        if (data.first_cell != numbers::invalid_unsigned_int)
-          for (unsigned int c = 0; c < dim; ++c)
-            {
-              const double b0    = data.projection[0][c],
-                           b1    = data.projection[1][c];
-              data.density[0][c] = 2. / data.length * (2. * b0 - b1);
-              data.density[1][c] = 2. / data.length * (2. * b1 - b0);
-            }
-    };
-    update_densities();
-
-    // --- 4. local Neumann problems -----------------------------------------
-    const LocalSpace   space(local_degree, quadrature);
-    const unsigned int n = space.size();
-    std::mutex         defect_mutex;
-
-    // the elasticity matrix (Voigt, engineering shear): energy = e^T D e
-    FullMatrix<double> D(3, 3);
-    {
-      std::array<SymmetricTensor<2, 2>, 3> unit;
-      unit[0][0][0] = 1.;
-      unit[1][1][1] = 1.;
-      unit[2][0][1] = 0.5; // gamma_xy = 1
-      for (unsigned int I = 0; I < 3; ++I)
-        for (unsigned int K = 0; K < 3; ++K)
-          D(I, K) = material.stress(unit[K]) * unit[I];
-    }
-
-    struct Geometry
-    {
-      Point<2>                    x0, center;
-      Tensor<2, 2>                J, J_inverse;
-      double                      det, h;
-      std::array<unsigned int, 3> vertices;
-      FullMatrix<double>          T; // scalar parts in the monomials
-    };
-    const auto geometry = [&](const auto &cell) {
-      Geometry g;
-      g.x0 = cell->vertex(0);
-      for (unsigned int d = 0; d < 2; ++d)
-        {
-          g.J[d][0] = cell->vertex(1)[d] - g.x0[d];
-          g.J[d][1] = cell->vertex(2)[d] - g.x0[d];
-        }
-      g.J_inverse = invert(g.J);
-      g.det       = std::abs(determinant(g.J));
-      g.center    = cell->center();
-      g.h         = 0.;
-      for (const unsigned int f : cell->face_indices())
-        g.h =
-          std::max(g.h, faces[cell_faces[cell->active_cell_index()][f]].length);
-      for (unsigned int v = 0; v < 3; ++v)
-        g.vertices[v] = cell->vertex_index(v);
-      g.T = space.scalar_coefficients(g.J, g.h);
-      return g;
-    };
-
-    const auto local_stiffness = [&](const Geometry &g) {
-      return space.stiffness(g.T, g.J_inverse, g.det, D);
-    };
-    const auto factorised = [&](const FullMatrix<double> &stiffness) {
-      LAPACKFullMatrix<double> factor(n, n);
-      factor = stiffness;
-      factor.set_property(LAPACKSupport::symmetric);
-      factor.compute_cholesky_factorization();
-      return factor;
-    };
-
-    // load of a linear density (nodal values at data.vertices) on the face
-    // of cell E, and its contribution to the resultant and moment about
-    // the centre (two-point Gauss: exact for the linear integrands)
-    const auto add_edge_load = [&](const unsigned int                 E,
-                                   const Geometry                    &g,
-                                   const FaceData                    &data,
-                                   const std::array<Tensor<1, 2>, 2> &density,
-                                   Vector<double>                    &load,
-                                   Tensor<1, 2>                      *resultant,
-                                   double                            *moment) {
-      const double sign = (data.first_cell == E) ? 1. : -1.;
-      // the reference edge e joins cell vertices e and e + 1
-      unsigned int e        = 0;
-      bool         reversed = false;
-      for (; e < 3; ++e)
-        {
-          const unsigned int a = g.vertices[e], b = g.vertices[(e + 1) % 3];
-          if (a == data.vertices[0] && b == data.vertices[1])
-            break;
-          if (b == data.vertices[0] && a == data.vertices[1])
-            {
-              reversed = true;
-              break;
-            }
-        }
-      Assert(e < 3, ExcInternalError());
-      std::array<Tensor<1, 2>, 2> F = {{sign * density[0], sign * density[1]}};
-      if (reversed)
-        std::swap(F[0], F[1]);
-      space.add_edge_load(g.T, e, data.length, F, load);
-      if (resultant != nullptr)
-        {
-          const Point<2> a = triangulation.get_vertices()[data.vertices[0]];
-          const Point<2> b = triangulation.get_vertices()[data.vertices[1]];
-          for (const double s :
-               {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)})
-            {
-              const Tensor<1, 2> value =
-                sign * ((1. - s) * density[0] + s * density[1]);
-              const double JxW = 0.5 * data.length;
-              *resultant += value * JxW;
-              *moment +=
-                cross_product_2d(a + s * (b - a) - g.center) * value * JxW;
-            }
-        }
-    };
-
-    // full load of a cell (body force with the rule of the assembly, so
-    // that the element data are in equilibrium to round-off), and checks
-    // (the body force is zero in most cases: skip its evaluation then)
-    const bool has_body_force = body_force_present;
-    const auto local_load     = [&](const auto &cell, const Geometry &g) {
-      const unsigned int E = cell->active_cell_index();
-      Vector<double>     load(n);
-      Tensor<1, 2>       resultant;
-      double             moment = 0., data_scale = 0.;
-      if (has_body_force)
-        {
-          std::vector<Point<2>>       points(quadrature.size());
-          std::vector<Vector<double>> f_values(quadrature.size(),
-                                               Vector<double>(2));
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            points[q] = g.x0 + g.J * quadrature.point(q);
-          bc.body_force->vector_value_list(points, f_values);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            {
-              const double       JxW = quadrature.weight(q) * g.det;
-              const Tensor<1, 2> f({f_values[q][0], f_values[q][1]});
-              resultant += f * JxW;
-              moment += cross_product_2d(points[q] - g.center) * f * JxW;
-              data_scale += f.norm() * JxW;
-            }
-          space.add_body_load(g.T, f_values, g.det, load);
-        }
-      for (const unsigned int f : cell->face_indices())
-        {
-          const FaceData &data = faces[cell_faces[E][f]];
-          add_edge_load(E, g, data, data.density, load, &resultant, &moment);
-          data_scale += 0.5 *
-                        (data.density[0].norm() + data.density[1].norm()) *
-                        data.length;
-        }
-      std::lock_guard<std::mutex> lock(defect_mutex);
-      if (data_scale > 0.)
-        this->max_equilibrium_defect =
-          std::max({this->max_equilibrium_defect,
-                    resultant.norm() / data_scale,
-                    std::abs(moment) / (data_scale * g.h)});
-      return load;
-    };
-
-    // coefficients of U^ (its strain) in the local space: l_0 e_x, l_1 e_y,
-    // l_1 e_x + l_0 e_y carry h eps_xx, h eps_yy, h eps_xy
-    const auto admissible_coefficients = [&](const unsigned int E,
-                                             const Geometry    &g) {
-      Vector<double> u_hat(n);
-      u_hat[0] = g.h * strain_hat[E][0][0];
-      u_hat[1] = g.h * strain_hat[E][1][1];
-      u_hat[2] = g.h * strain_hat[E][0][1];
-      return u_hat;
-    };
-
-    // --- 5. optional: the error-minimising choice in the admissible family -
-    // J(t) = sum_E ||w_E + sum_d t_d s_Ed||^2_{K_E}, w_E = v_E - U^_E the
-    // local error field, s_Ed = K_E^{-1} dload_Ed the response of E to the
-    // free direction d: minimise by CG on H t = -g with
-    // H_dd' = sum_E dload_Ed . s_Ed', g_d = sum_E w_E . dload_Ed.
+    // 1. the traction densities from the patch systems of the prolongation
+    //    condition, optionally their free parameters minimising the error
+    std::vector<FreeDirection> free_directions;
+    const double               prolongation_residual = solve_patch_projections(
+      patches, cells, edges, optimise_densities, free_directions);
+    this->max_condition_defect =
+      relative_prolongation_defect(prolongation_residual, cells, communicator);
+    densities_from_projections(patches, edges);
+    const ElementProblems problems(
+      local_degree, quadrature, input, patches, cells, edges);
     if (optimise_densities && !free_directions.empty())
       {
-        const unsigned int n_directions = free_directions.size();
-        std::vector<std::vector<unsigned int>> directions_of_cell(n_cells);
-        for (unsigned int d = 0; d < n_directions; ++d)
-          for (const unsigned int E :
-               cells_of_vertex[free_directions[d].vertex])
-            directions_of_cell[E].push_back(d);
-        DynamicSparsityPattern dsp(n_directions, n_directions);
-        for (const auto &directions : directions_of_cell)
-          for (const unsigned int d : directions)
-            for (const unsigned int e : directions)
-              dsp.add(d, e);
-        SparsityPattern sparsity;
-        sparsity.copy_from(dsp);
-        SparseMatrix<double> H(sparsity);
-        Vector<double>       g(n_directions);
-
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          {
-            const unsigned int E          = cell->active_cell_index();
-            const auto        &directions = directions_of_cell[E];
-            if (directions.empty())
-              continue;
-            const Geometry           geo = geometry(cell);
-            LAPACKFullMatrix<double> stiffness =
-              factorised(local_stiffness(geo));
-            Vector<double> w = local_load(cell, geo);
-            stiffness.solve(w);
-            w -= admissible_coefficients(E, geo);
-            std::vector<Vector<double>> delta_load(directions.size(),
-                                                   Vector<double>(n));
-            std::vector<Vector<double>> response(directions.size());
-            for (unsigned int i = 0; i < directions.size(); ++i)
-              {
-                const auto &direction = free_directions[directions[i]];
-                for (const auto &[f, k, value] : direction.entries)
-                  {
-                    const FaceData &data = faces[f];
-                    if (data.first_cell != E && data.second_cell != E)
-                      continue;
-                    std::array<Tensor<1, 2>, 2> density;
-                    density[k][direction.component] = 4. / data.length * value;
-                    density[1 - k][direction.component] =
-                      -2. / data.length * value;
-                    add_edge_load(
-                      E, geo, data, density, delta_load[i], nullptr, nullptr);
-                  }
-                response[i] = delta_load[i];
-                stiffness.solve(response[i]);
-                g[directions[i]] += w * delta_load[i];
-              }
-            for (unsigned int i = 0; i < directions.size(); ++i)
-              for (unsigned int j = 0; j < directions.size(); ++j)
-                H.add(directions[i],
-                      directions[j],
-                      delta_load[i] * response[j]);
-          }
-        Vector<double> t(n_directions);
-        g *= -1.;
-        SolverControl            control(10 * n_directions + 100,
-                              1e-10 * g.l2_norm(),
-                              false,
-                              false);
-        SolverCG<Vector<double>> cg(control);
-        PreconditionJacobi<SparseMatrix<double>> jacobi;
-        jacobi.initialize(H);
-        try
-          {
-            cg.solve(H, t, g, jacobi);
-          }
-        catch (const SolverControl::NoConvergence &)
-          {
-            // keep the partial minimisation: every t stays admissible
-          }
-        for (unsigned int d = 0; d < n_directions; ++d)
-          for (const auto &[f, k, value] : free_directions[d].entries)
-            faces[f].projection[k][free_directions[d].component] +=
-              t[d] * value;
-        update_densities();
+        minimise_densities(
+          problems, patches, free_directions, input.dof_handler, edges);
+        densities_from_projections(patches, edges);
       }
 
-    // --- 6. sigma^ = K eps(v) and the error per element (cells in parallel)
-    struct NoScratch
-    {};
-    const auto element_error =
-      [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-          NoScratch &) {
-        if (!cell->is_locally_owned())
-          return;
-        const unsigned int E = cell->active_cell_index();
-        const Geometry     g = geometry(cell);
-        // ||sigma^ -/+ K eps(U^)||^2 = (v -/+ u^)^T K_E (v -/+ u^)
-        const FullMatrix<double> stiffness = local_stiffness(g);
-        Vector<double>           v         = local_load(cell, g);
-        factorised(stiffness).solve(v);
-        const Vector<double> u_hat = admissible_coefficients(E, g);
-        Vector<double>       minus(v), plus(v);
-        minus -= u_hat;
-        plus += u_hat;
-        error_squared[E] = stiffness.matrix_norm_square(minus);
-        sum_squared[E]   = stiffness.matrix_norm_square(plus);
-      };
-    for_each_cell(dof_handler, element_error, NoScratch());
+    // 2. and 3. sigma^ from the element problems (in equilibrium [2] with
+    //    the element data) and the terms of e [14] per element
+    assemble_errors(problems, input.dof_handler, error_squared, sum_squared);
     this->max_equilibrium_defect =
-      Utilities::MPI::max(this->max_equilibrium_defect, communicator);
+      Utilities::MPI::max(problems.equilibrium_defect(), communicator);
   }
 
   template class ElementEquilibration<2>;

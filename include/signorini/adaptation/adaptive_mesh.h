@@ -12,7 +12,7 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * The meshes of an adaptive computation (spec section 5). deal.II 9.4
+   * The meshes of an adaptive computation (paper section 6). deal.II 9.4
    * cannot coarsen triangles, and hanging nodes would break the element
    * equilibration, so two triangulations are kept:
    *

@@ -13,28 +13,30 @@ namespace Signorini
   class FixedFractionPredictor : public SizePredictor
   {
   public:
-    /// Its entries of the "Mesh adaptation" section (entered by the caller).
+    /// Refined fraction in section Mesh adaptation.
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read from the "Mesh adaptation" section (entered by the caller).
-    FixedFractionPredictor(const unsigned int dim,
-                           const double       target_error,
-                           ParameterHandler  &prm);
+    /// Read it.
+    void
+    parse_parameters(ParameterHandler &prm);
 
-    FixedFractionPredictor(const unsigned int dim,
-                           const double       target_error,
-                           const double       fraction);
+    /// In dimension @p dim, with the default fraction.
+    explicit FixedFractionPredictor(const unsigned int dim);
 
-    std::string
-    name() const override;
+    /// In dimension @p dim, halving the elements holding @p fraction of
+    /// eps^2.
+    FixedFractionPredictor(const unsigned int dim, const double fraction);
 
+    /// The marking; @p target_error is not used.
     Prediction
-    predict(const Input &input) const override;
+    predict(const Input &input, const double target_error) const override;
 
   private:
+    /// d
     unsigned int dim;
-    double       fraction;
+    /// Share of eps^2 held by the halved elements.
+    double fraction;
   };
 } // namespace Signorini
 

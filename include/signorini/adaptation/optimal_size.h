@@ -6,13 +6,13 @@
 namespace Signorini
 {
   /**
-   * The optimal size map of [LAD 91]/[COO 94] (paper section 6, spec section
-   * 5): with the a priori local behaviour eps_E(h*) = eps_E r_E^q_E, the
-   * ratios r_E = h*_E / h_E minimise the element count N* = sum_E r_E^-d
-   * subject to sum_E eps_E^2 r_E^(2 q_E) = eps_0^2. The Lagrange condition
-   * gives
+   * The optimal size map of [LAD 91]/[COO 94] (paper section 6,
+   * doc/adaptation.md): with the a priori local behaviour eps_E(h*) = eps_E
+   * r_E^q_E, the ratios r_E = h*_E / h_E minimise the element count N* =
+   * sum_E r_E^-d subject to sum_E eps_E^2 r_E^(2 q_E) = eps_0^2. The
+   * Lagrange condition gives
    *   r_E(lambda) = (d / (2 lambda q_E eps_E^2))^(1 / (2 q_E + d)),
-   * and for a uniform rate q the closed form of spec section 5,
+   * and for a uniform rate q the closed form
    *   r_E = eps_E^(-2/(2q+d)) (eps_0^2 / sum_E' eps_E'^(2d/(2q+d)))^(1/(2q)).
    * With a reduced rate near singular points, or when the limits on the
    * size change per step bind (r_E = clamp(r_E(lambda))), the constraint is
@@ -21,34 +21,46 @@ namespace Signorini
   class OptimalSizePredictor : public SizePredictor
   {
   public:
-    /// Its entries of the "Mesh adaptation" section (entered by the caller).
+    /// Convergence rate, Singular rate, Minimum/Maximum size ratio in
+    /// section Mesh adaptation.
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read from the "Mesh adaptation" section (entered by the caller).
-    OptimalSizePredictor(const unsigned int dim,
-                         const double       target_error,
-                         ParameterHandler  &prm);
+    /// Read them.
+    void
+    parse_parameters(ParameterHandler &prm);
 
+    /// In dimension @p dim, with the default parameters.
+    explicit OptimalSizePredictor(const unsigned int dim);
+
+    /// In dimension @p dim with rate q (@p singular_rate near singular
+    /// points) and the limits of r_E in one step.
     OptimalSizePredictor(const unsigned int dim,
-                         const double       target_error,
                          const double       rate,
                          const double       singular_rate,
                          const double       minimum_ratio,
                          const double       maximum_ratio);
 
-    std::string
-    name() const override;
-
+    /// The sizes for which the predicted error is @p target_error = eps_0
+    /// (> 0), within the limits.
     Prediction
-    predict(const Input &input) const override;
+    predict(const Input &input, const double target_error) const override;
+
+    /// Yes: eps_0 defines the optimal sizes.
+    bool
+    needs_target_error() const override;
 
   private:
+    /// d
     unsigned int dim;
-    double       rate;
-    double       singular_rate;
-    double       minimum_ratio;
-    double       maximum_ratio;
+    /// q of the regular elements
+    double rate;
+    /// q of the elements near singular points
+    double singular_rate;
+    /// Lower limit of r_E in one step
+    double minimum_ratio;
+    /// Upper limit of r_E in one step
+    double maximum_ratio;
   };
 } // namespace Signorini
 

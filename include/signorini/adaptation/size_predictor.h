@@ -5,6 +5,8 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <signorini/registry.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,8 +17,11 @@ namespace Signorini
 
   /**
    * What the next mesh should look like, from the local contributions of the
-   * current one (spec section 5): the data flow mesh -> solve -> estimate ->
-   * size map -> new mesh passes through this interface only.
+   * current one (paper section 6, doc/adaptation.md): the data flow mesh ->
+   * solve -> estimate -> size map -> new mesh passes through this interface
+   * only. The predictors form a family chosen by Mesh adaptation/Strategy
+   * (registry()); when to stop adapting is not theirs to decide (see
+   * AdaptationTarget).
    */
   class SizePredictor
   {
@@ -30,6 +35,7 @@ namespace Signorini
       const std::vector<bool> &near_singularity;
     };
 
+    /// The predicted mesh.
     struct Prediction
     {
       /// r_E = h*_E / h_E per active cell of the current mesh
@@ -43,11 +49,22 @@ namespace Signorini
 
     virtual ~SizePredictor() = default;
 
-    virtual std::string
-    name() const = 0;
+    /// The predictors, chosen by Mesh adaptation/Strategy; each is
+    /// constructed from the space dimension.
+    static const Registry<SizePredictor, unsigned int> &
+    registry();
 
+    /// The name the predictor is chosen by.
+    const std::string &
+    name() const;
+
+    /**
+     * The size ratios of the next mesh from @p input. @p target_error is
+     * eps_0, the error the computations aim at (0: none); a predictor that
+     * aims at it (needs_target_error()) is only used with eps_0 > 0.
+     */
     virtual Prediction
-    predict(const Input &input) const = 0;
+    predict(const Input &input, const double target_error) const = 0;
 
     /// Does the prediction use eps_E (and so need the estimator)?
     virtual bool
@@ -56,9 +73,20 @@ namespace Signorini
       return true;
     }
 
-    /// Stop adapting once eps <= target * (1 + tolerance); 0: never.
-    double target_error = 0.;
-    double tolerance    = 0.05;
+    /// Does the prediction aim at the target error (which must then be > 0)?
+    virtual bool
+    needs_target_error() const
+    {
+      return false;
+    }
+
+    /// Does every step halve every element, so that the size of every mesh
+    /// is known from the input?
+    virtual bool
+    refines_uniformly() const
+    {
+      return false;
+    }
 
   protected:
     /// The prediction made of @p size_ratio: N* and the error it should
@@ -69,17 +97,6 @@ namespace Signorini
                   const std::vector<double> &rate,
                   const unsigned int         dim);
   };
-
-  /// The "Mesh adaptation" section: strategy and target here, then the
-  /// parameters each predictor declares.
-  void
-  declare_size_predictor_parameters(ParameterHandler &prm);
-
-  /// The predictor the "Mesh adaptation" section asks for; throws
-  /// InputError for inconsistent input.
-  template <int dim>
-  std::unique_ptr<SizePredictor>
-  create_size_predictor(ParameterHandler &prm);
 } // namespace Signorini
 
 #endif

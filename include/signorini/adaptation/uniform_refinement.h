@@ -9,18 +9,23 @@ namespace Signorini
   class UniformRefinement : public SizePredictor
   {
   public:
-    UniformRefinement(const unsigned int dim, const double target_error);
+    /// In dimension @p dim.
+    explicit UniformRefinement(const unsigned int dim);
 
-    std::string
-    name() const override;
-
+    /// r_E = 1/2 everywhere; @p target_error is not used.
     Prediction
-    predict(const Input &input) const override;
+    predict(const Input &input, const double target_error) const override;
 
+    /// No: every element is halved.
     bool
     uses_estimate() const override;
 
+    /// Yes.
+    bool
+    refines_uniformly() const override;
+
   private:
+    /// d
     unsigned int dim;
   };
 } // namespace Signorini

@@ -30,21 +30,22 @@ namespace Signorini
   class ActiveSetSolver : public ContactSolver<dim>
   {
   public:
+    /// Section Contact/Active set.
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read section Contact/Active set.
     void
     parse_parameters(ParameterHandler &prm);
 
-    std::string
-    name() const override;
-
+    /// The method described above, from @p u (and @p initial_active).
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector                        &u,
           Vector<double>                    &y,
           const std::vector<bool>           &initial_active = {}) override;
 
+    /// Limit on the number of active-set updates.
     unsigned int max_iterations = 100;
     /// CG tolerance while the active set still changes.
     double inexact_tolerance = 1e-6;

@@ -7,6 +7,8 @@
 #include <deal.II/lac/vector.h>
 
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/linear_algebra.h>
+#include <signorini/registry.h>
 
 #include <memory>
 #include <string>
@@ -16,8 +18,33 @@ namespace Signorini
 {
   using namespace dealii;
 
+  template <int dim>
+  class DiscreteContactProblem;
+
   /**
-   * A discrete non-penetration condition (spec section 2), written as
+   * The admissible contact fields built from a finite element solution
+   * (U_h, y) (paper section 5, doc/theory.md section 7): the reaction R^ =
+   * R^_n nu_c, the displacement U^ (= W^ on GC) and a displacement whose
+   * stress is in finite element equilibrium with the loads and R^, from
+   * which sigma^ is built.
+   */
+  template <int dim>
+  struct AdmissibleContactFields
+  {
+    /// R^_n (<= 0) at every node of GC, zero at the nodes without a
+    /// multiplier: the nodal values of a continuous piecewise linear R^_n.
+    Vector<double> normal_reaction;
+    /// U^, with W^_n <= g at the nodes of GC.
+    LA::Vector displacement;
+    /// U_h, or U~_h when sigma_h is not in equilibrium with R^.
+    LA::Vector equilibrated_displacement;
+    /// Multiplier nodes where Lambda_i > 0 (the pointwise condition).
+    unsigned int positive_multipliers = 0;
+  };
+
+  /**
+   * A discrete non-penetration condition (paper section 4, [16]-[24];
+   * doc/theory.md section 2), written as
    *
    *   B q <= b,  B = W N,
    *
@@ -30,7 +57,10 @@ namespace Signorini
    *
    * This is the whole interface a contact solver needs: everything else (the
    * equality constrained problem for an active set, the recovery of y from
-   * the residual) follows from W and b and is implemented here once.
+   * the residual) follows from W and b and is implemented here once. The
+   * error estimator asks the condition for its admissible fields.
+   *
+   * The conditions form a family chosen by Contact/Condition (registry()).
    */
   template <int dim>
   class ContactCondition
@@ -38,9 +68,13 @@ namespace Signorini
   public:
     virtual ~ContactCondition() = default;
 
-    /// "integral" or "pointwise"
-    virtual std::string
-    name() const = 0;
+    /// The conditions, chosen by Contact/Condition.
+    static const Registry<ContactCondition<dim>> &
+    registry();
+
+    /// The name the condition is chosen by.
+    const std::string &
+    name() const;
 
     /// Build W and b for the current contact boundary.
     virtual void
@@ -51,6 +85,16 @@ namespace Signorini
     virtual Vector<double>
     multiplier(const Vector<double> &y) const = 0;
 
+    /**
+     * The admissible fields (paper sections 5.1 and 5.2) from the solution
+     * @p u_h, y of @p problem (whose condition this is). @p u_h carries no
+     * ghost entries; the displacements returned have its layout.
+     */
+    virtual AdmissibleContactFields<dim>
+    admissible_fields(const DiscreteContactProblem<dim> &problem,
+                      const LA::Vector                  &u_h,
+                      const Vector<double>              &y) const = 0;
+
     /// Number of constraint rows (= multiplier nodes).
     unsigned int
     n_constraints() const;
@@ -59,6 +103,7 @@ namespace Signorini
     Vector<double>
     constraint_values(const Vector<double> &normal_displacements) const;
 
+    /// b: ghat (integral) or G (pointwise) on the multiplier nodes.
     const Vector<double> &
     bounds() const;
 
@@ -92,9 +137,12 @@ namespace Signorini
     /// W as sparse rows: (node index, weight); row i belongs to node
     /// multiplier_node[i].
     std::vector<std::vector<std::pair<unsigned int, double>>> weight_rows;
-    std::vector<unsigned int>                                 multiplier_node;
-    Vector<double>                                            bound_values;
-    unsigned int                                              n_all_nodes = 0;
+    /// The node of GC of each constraint row.
+    std::vector<unsigned int> multiplier_node;
+    /// b
+    Vector<double> bound_values;
+    /// Number of nodes of GC (columns of W).
+    unsigned int n_all_nodes = 0;
 
   private:
     /// Solve W_AA X = R for several right-hand sides (columns of R, each of
@@ -103,19 +151,6 @@ namespace Signorini
     solve_active_block(const std::vector<unsigned int> &active_rows,
                        std::vector<Vector<double>>     &right_hand_sides) const;
   };
-
-  template <int dim>
-  void
-  declare_contact_condition_parameters(ParameterHandler &prm);
-
-  /// Create the condition named by Contact/Condition.
-  template <int dim>
-  std::unique_ptr<ContactCondition<dim>>
-  create_contact_condition(ParameterHandler &prm);
-
-  template <int dim>
-  std::unique_ptr<ContactCondition<dim>>
-  create_contact_condition(const std::string &name);
 } // namespace Signorini
 
 #endif

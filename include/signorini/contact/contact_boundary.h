@@ -28,7 +28,8 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * The candidate contact part GC and its discretisation (spec section 2):
+   * The candidate contact part GC and its discretisation (paper section
+   * 4.3, doc/theory.md section 2):
    * the mesh vertices on GC ("nodes"), the contact direction nu_c, the nodal
    * gap G_k = g(x_k), the weighted gap ghat_k = int_GC g psi_k and the
    * contact-boundary mass matrix M_jk = int_GC psi_j psi_k over all nodes.
@@ -41,17 +42,24 @@ namespace Signorini
   class ContactBoundary
   {
   public:
+    /// A mesh vertex on GC.
     struct Node
     {
-      Point<dim>                               position;
-      unsigned int                             vertex;
+      /// x_k
+      Point<dim> position;
+      /// The mesh vertex index.
+      unsigned int vertex;
+      /// Its displacement dofs, one per component.
       std::array<types::global_dof_index, dim> dofs;
-      bool                                     has_multiplier;
+      /// Whether it carries a multiplier (its normal displacement is free).
+      bool has_multiplier;
     };
 
+    /// Boundary ids, Direction and Gap in section Contact.
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read them.
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -66,12 +74,11 @@ namespace Signorini
            const AffineConstraints<double> &dirichlet_constraints,
            const AffineConstraints<double> &hanging_node_constraints);
 
-    bool
-    empty() const;
-
+    /// Number of nodes of GC.
     unsigned int
     n_nodes() const;
 
+    /// Node @p k of GC.
     const Node &
     node(const unsigned int k) const;
 
@@ -83,6 +90,7 @@ namespace Signorini
     const std::vector<unsigned int> &
     multiplier_nodes() const;
 
+    /// nu_c
     const Tensor<1, dim> &
     direction() const;
 
@@ -91,12 +99,15 @@ namespace Signorini
     unsigned int
     constrained_component() const;
 
+    /// M over all nodes of GC.
     const SparseMatrix<double> &
     mass_matrix() const;
 
+    /// G_k = g(x_k)
     const Vector<double> &
     nodal_gap() const;
 
+    /// ghat_k = int_GC g psi_k
     const Vector<double> &
     weighted_gap() const;
 
@@ -135,19 +146,32 @@ namespace Signorini
     check_data(const Mapping<dim>    &mapping,
                const DoFHandler<dim> &dof_handler) const;
 
-    std::set<types::boundary_id>                    ids;
-    std::string                                     direction_text;
+    /// Contact/Boundary ids
+    std::set<types::boundary_id> ids;
+    /// nu_c is the outward normal of a flat GC (found by reinit()) rather
+    /// than a given vector.
+    bool use_outward_normal = true;
+    /// Contact/Gap
     std::unique_ptr<Functions::ParsedFunction<dim>> gap_function;
 
-    Tensor<1, dim>                       contact_direction;
-    std::vector<Node>                    nodes;
+    /// nu_c
+    Tensor<1, dim> contact_direction;
+    /// The nodes of GC, in the order reinit() met them.
+    std::vector<Node> nodes;
+    /// The node of each mesh vertex on GC.
     std::map<unsigned int, unsigned int> node_of_vertex;
-    std::vector<unsigned int>            multiplier_node_indices;
-    SparsityPattern                      mass_sparsity;
-    SparseMatrix<double>                 mass;
-    Vector<double>                       gap_at_nodes;
-    Vector<double>                       weighted_gap_at_nodes;
-    unsigned int                         contact_cell_count = 0;
+    /// The nodes that carry a multiplier.
+    std::vector<unsigned int> multiplier_node_indices;
+    /// Sparsity of M
+    SparsityPattern mass_sparsity;
+    /// M
+    SparseMatrix<double> mass;
+    /// G
+    Vector<double> gap_at_nodes;
+    /// ghat
+    Vector<double> weighted_gap_at_nodes;
+    /// See n_contact_cells().
+    unsigned int contact_cell_count = 0;
   };
 } // namespace Signorini
 

@@ -36,23 +36,25 @@ namespace Signorini
   class FrankWolfeSolver : public ContactSolver<dim>
   {
   public:
+    /// Section Contact/Frank-Wolfe.
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read section Contact/Frank-Wolfe.
     void
     parse_parameters(ParameterHandler &prm);
 
-    std::string
-    name() const override;
-
+    /// The method described above (from y = 0; @p initial_active unused).
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector                        &u,
           Vector<double>                    &y,
           const std::vector<bool>           &initial_active = {}) override;
 
+    /// Limit on the number of Frank-Wolfe steps.
     unsigned int max_iterations = 1000000;
-    double       tolerance      = 1e-12;
+    /// KKT residual reached, relative to max |d|.
+    double tolerance = 1e-12;
     /// Stop (unconverged) rather than form more columns of S than this.
     unsigned int max_columns = 100000;
   };

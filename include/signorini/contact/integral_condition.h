@@ -16,14 +16,24 @@ namespace Signorini
   class IntegralCondition : public ContactCondition<dim>
   {
   public:
-    std::string
-    name() const override;
-
+    /// W = the rows of M of the multiplier nodes, b = ghat.
     void
     reinit(const ContactBoundary<dim> &boundary) override;
 
+    /// Lambda = -y.
     Vector<double>
     multiplier(const Vector<double> &y) const override;
+
+    /**
+     * Paper section 5.1: R^_n = Lambda (<= 0), with which sigma_h is in
+     * finite element equilibrium by [19]; U^ = U_h except the normal
+     * component at the multiplier nodes, min(U_hn, G) (the tangential part
+     * unchanged), so that W^_n <= g at the nodes.
+     */
+    AdmissibleContactFields<dim>
+    admissible_fields(const DiscreteContactProblem<dim> &problem,
+                      const LA::Vector                  &u_h,
+                      const Vector<double>              &y) const override;
   };
 } // namespace Signorini
 

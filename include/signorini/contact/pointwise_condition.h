@@ -17,19 +17,35 @@ namespace Signorini
   class PointwiseCondition : public ContactCondition<dim>
   {
   public:
-    std::string
-    name() const override;
-
+    /// W = I on the multiplier nodes, b = G; factorises M restricted to
+    /// them for multiplier().
     void
     reinit(const ContactBoundary<dim> &boundary) override;
 
+    /// Lambda = M^{-1} Gamma, Gamma = -y.
     Vector<double>
     multiplier(const Vector<double> &y) const override;
 
+    /**
+     * Paper section 5.2: U^ = U_h (conforming) and R^_n = min(Lambda, 0).
+     * When some Lambda_i > 0, sigma_h is no longer in finite element
+     * equilibrium with R^: one more elasticity problem with the loads and
+     * R^ gives U~_h, whose stress sigma~_h is. For a body held only by the
+     * contact R^ is first rescaled to balance the load on the free rigid
+     * motions (without that no stress is in equilibrium with it).
+     */
+    AdmissibleContactFields<dim>
+    admissible_fields(const DiscreteContactProblem<dim> &problem,
+                      const LA::Vector                  &u_h,
+                      const Vector<double>              &y) const override;
+
   private:
-    SparsityPattern      multiplier_mass_sparsity;
+    /// Sparsity of multiplier_mass.
+    SparsityPattern multiplier_mass_sparsity;
+    /// M restricted to the multiplier nodes: Gamma = M Lambda there.
     SparseMatrix<double> multiplier_mass;
-    SparseDirectUMFPACK  multiplier_mass_inverse;
+    /// Its factorisation.
+    SparseDirectUMFPACK multiplier_mass_inverse;
   };
 } // namespace Signorini
 

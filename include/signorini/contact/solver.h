@@ -7,6 +7,7 @@
 
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/linear_algebra.h>
+#include <signorini/registry.h>
 
 #include <memory>
 #include <string>
@@ -18,12 +19,14 @@ namespace Signorini
   /**
    * A solver of the discrete contact problem: given the DiscreteContactProblem
    * it returns the displacement u and the dual variable y >= 0 with
-   * K u + B^T y = F, B u <= b, y^T (b - B u) = 0, to its tolerance.
+   * K u + B^T y = F, B u <= b, y^T (b - B u) = 0, to its tolerance. The
+   * solvers form a family chosen by Contact/Solver (registry()).
    */
   template <int dim>
   class ContactSolver
   {
   public:
+    /// What a solve did.
     struct Report
     {
       /// Outer iterations (active-set solves, or Frank-Wolfe steps).
@@ -33,15 +36,20 @@ namespace Signorini
       /// Elasticity solves (linear systems) performed.
       unsigned int linear_solves = 0;
       /// Relative KKT residual reached (0 for an exact active set).
-      double residual  = 0.;
-      bool   converged = false;
+      double residual = 0.;
+      /// Whether the solver reached its tolerance.
+      bool converged = false;
     };
 
     virtual ~ContactSolver() = default;
 
-    /// "active set" or "Frank-Wolfe"
-    virtual std::string
-    name() const = 0;
+    /// The solvers, chosen by Contact/Solver.
+    static const Registry<ContactSolver<dim>> &
+    registry();
+
+    /// The name the solver is chosen by.
+    const std::string &
+    name() const;
 
     /**
      * @p u holds the initial guess on entry; @p initial_active, if not
@@ -54,20 +62,6 @@ namespace Signorini
           Vector<double>                    &y,
           const std::vector<bool>           &initial_active = {}) = 0;
   };
-
-  template <int dim>
-  void
-  declare_contact_solver_parameters(ParameterHandler &prm);
-
-  /// Create (and configure) the solver named by Contact/Solver.
-  template <int dim>
-  std::unique_ptr<ContactSolver<dim>>
-  create_contact_solver(ParameterHandler &prm);
-
-  /// Same with an explicit name, parameters from @p prm.
-  template <int dim>
-  std::unique_ptr<ContactSolver<dim>>
-  create_contact_solver(const std::string &name, ParameterHandler &prm);
 } // namespace Signorini
 
 #endif

@@ -23,15 +23,12 @@ namespace Signorini
 
   /**
    * The error in constitutive relation for unilateral contact (paper
-   * sections 3 and 5, spec sections 3 and 4).
+   * sections 3 and 5; doc/theory.md section 7, doc/estimator.md).
    *
    * Admissible fields from the finite element solution (U_h, Lambda):
-   * - integral condition: R^_n = Lambda (<= 0), U^ = U_h except the normal
-   *   component at the contact nodes, min(U_hn, G);
-   * - pointwise condition: U^ = U_h, R^_n = min(Lambda, 0); if some
-   *   Lambda_i > 0, sigma_h is no longer in equilibrium with R^ and one more
-   *   elasticity problem with the loads (f_d, F_d, R^) gives the stress
-   *   sigma~_h that is equilibrated instead;
+   * - R^, U^ and the displacement whose stress is in finite element
+   *   equilibrium with R^ from the contact condition
+   *   (ContactCondition::admissible_fields(): paper sections 5.1 and 5.2);
    * - sigma^ from a StressReconstruction (star patch by default, or the
    *   paper's element equilibration).
    *
@@ -44,6 +41,7 @@ namespace Signorini
   class ConstitutiveRelationError
   {
   public:
+    /// The estimate and its checks.
     struct Result
     {
       double         eps          = 0.; ///< [9]
@@ -53,17 +51,24 @@ namespace Signorini
       double         contact_term = 0.; ///< 2 int R^_n (W^_n - g) >= 0
       Vector<double> local;             ///< eps_E per active cell
       Vector<double> contact_local;     ///< contact term per active cell
-      double         equilibrium_defect   = 0.;
-      double         prolongation_defect  = 0.;
-      unsigned int   positive_multipliers = 0; ///< pointwise: Lambda_i > 0
+      /// StressReconstruction::equilibrium_defect()
+      double equilibrium_defect = 0.;
+      /// StressReconstruction::condition_defect(): the prolongation
+      /// condition (element equilibration) or the FE equilibrium (star
+      /// patch)
+      double       condition_defect     = 0.;
+      unsigned int positive_multipliers = 0; ///< pointwise: Lambda_i > 0
     };
 
+    /// Section Error estimator: Enable, and the stress reconstructions.
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read it and create the chosen stress reconstruction.
     void
     parse_parameters(ParameterHandler &prm);
 
+    /// Error estimator/Enable
     bool
     enabled() const;
 
@@ -82,7 +87,9 @@ namespace Signorini
              LA::Vector                        &admissible_displacement);
 
   private:
-    bool                                       is_enabled = false;
+    /// Error estimator/Enable
+    bool is_enabled = false;
+    /// sigma^
     std::unique_ptr<StressReconstruction<dim>> reconstruction;
   };
 } // namespace Signorini

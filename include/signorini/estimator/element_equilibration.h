@@ -6,10 +6,14 @@
 namespace Signorini
 {
   /**
-   * The element equilibration technique of Ladeveze and Pelle ([LAD 91],
-   * spec section 4) for P1 triangles:
+   * The element equilibration technique of Ladeveze and Pelle ([LAD 91], the
+   * paper's "construction classique" of section 5; doc/theory.md section 7)
+   * for P1 triangles. compute() runs its steps:
    *
-   * 1. Traction densities F^_E, linear on every edge, with F^_E + F^_E' = 0
+   * 0. per cell, sigma_h, eps(U^) and the loads of the prolongation
+   *    condition; per edge, its geometry and the projections the boundary
+   *    data give (F_d on loaded edges, R^ on GC);
+   * 1. traction densities F^_E, linear on every edge, with F^_E + F^_E' = 0
    *    on interior edges, F^ = F_d on loaded edges, F^ = R^ on GC, free on
    *    the Dirichlet part, satisfying the prolongation condition
    *      int_dE F^_E . phi_i = int_E sigma_h : eps(phi_i) - int_E f_d . phi_i
@@ -18,11 +22,14 @@ namespace Signorini
    *    int_G F^ phi_i; among its solutions the one closest (least squares)
    *    to the projections of the averaged finite element tractions is taken
    *    (a one-parameter family at interior vertices). The two projections of
-   *    an edge then give its linear density.
-   *    Optionally the free parameters minimise the error measure instead.
+   *    an edge then give its linear density. Optionally the free parameters
+   *    minimise the error measure instead;
    * 2. sigma^ = K eps(v) on each element from the Neumann problem with data
    *    (f_d, F^_E) in complete polynomials of degree "Local degree" (p + k),
-   *    rigid motions removed from the basis.
+   *    rigid motions removed from the basis: in equilibrium [2] with the
+   *    loads and R^ on each element;
+   * 3. per element ||sigma^ -/+ K eps(U^)||^2_E, the terms of e [14], eps
+   *    [9] and eps_E [10].
    *
    * Meshes with hanging nodes are not supported (the adaptation builds
    * conforming meshes).
@@ -45,18 +52,24 @@ namespace Signorini
      */
     explicit ElementEquilibration(ParameterHandler &prm);
 
-    std::string
-    name() const override;
-
+    /// The steps 0 to 3 above; see StressReconstruction::compute().
     void
     compute(const EquilibrationInput<dim> &input,
             const LA::Vector              &admissible_displacement,
             Vector<double>                &error_squared,
             Vector<double>                &sum_squared) override;
 
+    /// The prolongation condition.
+    std::string
+    condition() const override;
+
   private:
+    /// p + k, the degree of the element problems.
     unsigned int local_degree;
-    bool         optimise_densities;
+    /// Whether the free parameters of the densities minimise the error
+    /// ("Traction densities = minimised") instead of the least squares
+    /// choice.
+    bool optimise_densities;
   };
 } // namespace Signorini
 

@@ -5,11 +5,8 @@
 
 #include <deal.II/dofs/dof_handler.h>
 
-#include <deal.II/grid/tria.h>
-
 #include <exception>
 #include <mutex>
-#include <vector>
 
 namespace Signorini
 {
@@ -52,31 +49,6 @@ namespace Signorini
       NoCopy());
     if (error)
       std::rethrow_exception(error);
-  }
-
-  /**
-   * The vertex patches a rank treats and the cells they cover: every rank
-   * holds the whole mesh (parallel::shared) and computes the error of the
-   * cells it owns, whose local problems involve the patches of their
-   * vertices (@p vertex_of_owned_cell), which cover the cells around them
-   * (the returned flags, by active cell index).
-   */
-  template <int dim>
-  std::vector<bool>
-  cells_around_owned_cells(const Triangulation<dim> &triangulation,
-                           std::vector<bool>        &vertex_of_owned_cell)
-  {
-    vertex_of_owned_cell.assign(triangulation.n_vertices(), false);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned())
-        for (const unsigned int v : cell->vertex_indices())
-          vertex_of_owned_cell[cell->vertex_index(v)] = true;
-    std::vector<bool> needed(triangulation.n_active_cells(), false);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        if (vertex_of_owned_cell[cell->vertex_index(v)])
-          needed[cell->active_cell_index()] = true;
-    return needed;
   }
 } // namespace Signorini
 

@@ -13,6 +13,7 @@
 #include <signorini/contact/contact_boundary.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/material.h>
+#include <signorini/registry.h>
 
 #include <memory>
 #include <string>
@@ -27,25 +28,34 @@ namespace Signorini
    * R^_n nu_c given by its values at the nodes of GC) and a finite element
    * displacement whose stress sigma_h is in finite element equilibrium with
    * these loads (U_h, or U~_h for the pointwise condition when some
-   * Lambda_i > 0, spec section 4).
+   * Lambda_i > 0: paper section 5.2, ContactCondition::admissible_fields()).
    */
   template <int dim>
   struct EquilibrationInput
   {
-    const Mapping<dim>               &mapping;
-    const DoFHandler<dim>            &dof_handler;
+    /// The mapping of the cells.
+    const Mapping<dim> &mapping;
+    /// The P1 vector element on the current mesh.
+    const DoFHandler<dim> &dof_handler;
+    /// K
     const LinearElasticMaterial<dim> &material;
-    const BoundaryConditions<dim>    &boundary_conditions;
-    const ContactBoundary<dim>       &contact_boundary;
-    const Vector<double>             &normal_reaction;
-    const LA::Vector                 &equilibrated_displacement;
+    /// f_d, F_d and the Dirichlet part.
+    const BoundaryConditions<dim> &boundary_conditions;
+    /// GC and nu_c.
+    const ContactBoundary<dim> &contact_boundary;
+    /// R^_n at the nodes of GC.
+    const Vector<double> &normal_reaction;
+    /// The displacement whose stress is in FE equilibrium with the loads.
+    const LA::Vector &equilibrated_displacement;
   };
 
   /**
    * Construction of a statically admissible stress field sigma^ from a finite
-   * element solution (spec section 4). The interface the error estimator
-   * uses, implemented by the star-patch construction and by the element
-   * equilibration technique; a strictly admissible variant can be another.
+   * element solution (paper section 5, [LAD 91]; doc/theory.md section 7).
+   * The interface the error estimator uses, implemented by the star-patch
+   * construction and by the element equilibration technique; a strictly
+   * admissible variant can be another. The reconstructions form a family
+   * chosen by Error estimator/Stress reconstruction (registry()).
    */
   template <int dim>
   class StressReconstruction
@@ -53,8 +63,13 @@ namespace Signorini
   public:
     virtual ~StressReconstruction() = default;
 
-    virtual std::string
-    name() const = 0;
+    /// The reconstructions, chosen by Error estimator/Stress reconstruction.
+    static const Registry<StressReconstruction<dim>> &
+    registry();
+
+    /// The name the reconstruction is chosen by.
+    const std::string &
+    name() const;
 
     /**
      * Build sigma^ and return, for every active cell this rank owns (by
@@ -80,19 +95,29 @@ namespace Signorini
       return max_equilibrium_defect;
     }
 
-    /// Largest relative defect of the condition the construction rests on
-    /// (EET: the prolongation condition; star patch: the FE equilibrium
-    /// R(phi_i) = 0) in the last compute(), over all ranks. Reported as
-    /// `prolongation_defect`.
+    /**
+     * Largest relative defect of condition() in the last compute(), over
+     * all ranks: round-off if correct. It is a different check for each
+     * reconstruction: the element equilibration's prolongation condition
+     * (which its traction densities are built to satisfy), the star
+     * patch's finite element equilibrium R(phi_i) = 0 of its input (on
+     * which the equilibrium of the sum of the patch corrections rests).
+     */
     double
-    prolongation_defect() const
+    condition_defect() const
     {
-      return max_prolongation_defect;
+      return max_condition_defect;
     }
 
+    /// The condition whose defect condition_defect() measures, in words.
+    virtual std::string
+    condition() const = 0;
+
   protected:
-    double max_equilibrium_defect  = 0.;
-    double max_prolongation_defect = 0.;
+    /// See equilibrium_defect().
+    double max_equilibrium_defect = 0.;
+    /// See condition_defect().
+    double max_condition_defect = 0.;
   };
 } // namespace Signorini
 

@@ -1,0 +1,176 @@
+#ifndef signorini_estimator_vertex_patches_h
+#define signorini_estimator_vertex_patches_h
+
+#include <deal.II/base/parallel.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The vertex patches (stars) omega_i of a conforming triangle mesh, on
+   * which both stress reconstructions solve their local problems: the cells
+   * around each vertex, the vertices and edges of each cell, and the two
+   * cells of each edge.
+   *
+   * Under MPI every rank holds the whole mesh (parallel::shared) and computes
+   * the error of the cells it owns. Their local problems involve the patches
+   * of their vertices (the patches this rank "treats"), which cover the cells
+   * around them (the "needed" cells): only those are described, the other
+   * cells have no vertices, edges or patches here.
+   */
+  class VertexPatches
+  {
+  public:
+    /// Describe the patches of @p triangulation that this rank treats.
+    explicit VertexPatches(const Triangulation<2> &triangulation);
+
+    /// The number of vertices of the triangulation (treated or not).
+    unsigned int
+    n_vertices() const
+    {
+      return cells_around_vertex.size();
+    }
+
+    /// Whether this rank solves the problem of the patch of @p vertex (a
+    /// vertex of a cell it owns).
+    bool
+    treats_patch(const unsigned int vertex) const
+    {
+      return vertex_of_owned_cell[vertex] &&
+             !cells_around_vertex[vertex].empty();
+    }
+
+    /// Whether the cell of active cell index @p cell lies in a treated patch.
+    bool
+    needed(const unsigned int cell) const
+    {
+      return needed_cell[cell];
+    }
+
+    /// The needed cells around @p vertex, in increasing active cell index
+    /// (the order fixes the numbering of the patch unknowns).
+    const std::vector<unsigned int> &
+    cells_of_vertex(const unsigned int vertex) const
+    {
+      return cells_around_vertex[vertex];
+    }
+
+    /// Global vertex numbers of a needed cell, in the cell's order.
+    const std::array<unsigned int, 3> &
+    vertices(const unsigned int cell) const
+    {
+      return cell_vertices[cell];
+    }
+
+    /// Face indices of the edges of a needed cell: edge e joins the cell's
+    /// vertices e and e + 1 (mod 3).
+    const std::array<unsigned int, 3> &
+    edges(const unsigned int cell) const
+    {
+      return cell_edges[cell];
+    }
+
+    /// 0, 1 or 2: the number of global vertex @p vertex in a needed cell.
+    unsigned int
+    local_vertex(const unsigned int cell, const unsigned int vertex) const;
+
+    /**
+     * The needed cells sharing the edge of face index @p edge, in active cell
+     * order: the first one defines the orientation of the edge's normal and
+     * densities (a fixed choice, independent of the thread schedule); the
+     * second is numbers::invalid_unsigned_int on the boundary.
+     */
+    const std::array<unsigned int, 2> &
+    cells_of_edge(const unsigned int edge) const
+    {
+      return edge_cells[edge];
+    }
+
+    /// Call @p worker(vertex) for every treated patch, in parallel on
+    /// deal.II's worker threads (@p grain_size vertices per task).
+    template <typename Worker>
+    void
+    for_each_patch(const Worker &worker, const unsigned int grain_size) const
+    {
+      parallel::apply_to_subranges(
+        0u,
+        n_vertices(),
+        [&](const unsigned int begin, const unsigned int end) {
+          for (unsigned int vertex = begin; vertex < end; ++vertex)
+            if (treats_patch(vertex))
+              worker(vertex);
+        },
+        grain_size);
+    }
+
+    /// Call @p worker(vertex) for every treated patch, in increasing vertex
+    /// order on the calling thread (when the results must come in order).
+    template <typename Worker>
+    void
+    for_each_patch_in_order(const Worker &worker) const
+    {
+      for (unsigned int vertex = 0; vertex < n_vertices(); ++vertex)
+        if (treats_patch(vertex))
+          worker(vertex);
+    }
+
+  private:
+    /// By vertex: is it a vertex of a locally owned cell?
+    std::vector<bool> vertex_of_owned_cell;
+    /// By active cell index: does the cell lie in a treated patch?
+    std::vector<bool> needed_cell;
+    /// By vertex: the needed cells around it.
+    std::vector<std::vector<unsigned int>> cells_around_vertex;
+    /// By active cell index: global vertex numbers.
+    std::vector<std::array<unsigned int, 3>> cell_vertices;
+    /// By active cell index: face indices of the edges.
+    std::vector<std::array<unsigned int, 3>> cell_edges;
+    /// By face index: the (at most two) needed cells of the edge.
+    std::vector<std::array<unsigned int, 2>> edge_cells;
+  };
+
+
+
+  /**
+   * The affine map x = origin + jacobian xi of a triangle from the reference
+   * triangle (its vertices 0, 1, 2 to (0, 0), (1, 0), (0, 1)). Both
+   * reconstructions integrate on the reference triangle with it instead of
+   * deal.II's mapping, which is the same map for straight P1 triangles.
+   */
+  struct AffineTriangle
+  {
+    /// The map of @p cell (any active cell iterator of a triangle).
+    template <typename CellIterator>
+    explicit AffineTriangle(const CellIterator &cell)
+      : origin(cell->vertex(0))
+    {
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          jacobian[d][0] = cell->vertex(1)[d] - origin[d];
+          jacobian[d][1] = cell->vertex(2)[d] - origin[d];
+        }
+      inverse_jacobian = invert(jacobian);
+      determinant      = std::abs(dealii::determinant(jacobian));
+    }
+
+    /// The image of vertex 0.
+    Point<2> origin;
+    /// The (constant) Jacobian matrix.
+    Tensor<2, 2> jacobian;
+    /// Its inverse: row a is the gradient of the barycentric coordinate
+    /// lambda_{a+1}.
+    Tensor<2, 2> inverse_jacobian;
+    /// |det J|, twice the area.
+    double determinant = 0.;
+  };
+} // namespace Signorini
+
+#endif
