@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Elements needed to reach eps_0 = 2 % on the paper's block (spec section
-6.1) by (a) uniform refinement, (b) the fixed-fraction strategy on eps_E,
+"""Elements needed to reach eps_0 = 2 % on the paper's block (paper section
+7) by (a) uniform refinement, (b) the fixed-fraction strategy on eps_E,
 (c) the optimal-size prediction (prm/block-adaptive.prm), for both contact
 conditions; the paper's table (computation, triangles, nodes, eps) for (c);
 and the pictures of the paper's figures 4 to 9 rendered from the VTU output

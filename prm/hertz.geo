@@ -1,5 +1,5 @@
 // Quarter of a cylinder of radius R (center at the origin) for the Hertz
-// benchmark (spec section 6.2), graded towards the contact point (0, -R).
+// benchmark (prm/hertz.prm), graded towards the contact point (0, -R).
 // Generate the mesh with:  gmsh -2 -format msh22 hertz.geo -o hertz.msh
 // Physical curve tags (boundary ids): 1 symmetry line x = 0, 2 the arc
 // (candidate contact zone), 3 the top edge y = 0 (imposed displacement).

@@ -56,8 +56,10 @@ namespace Signorini
           prm.declare_entry("Boundary ids",
                             "",
                             Patterns::List(Patterns::Integer(0)),
-                            "Boundary ids loaded by the traction F_d "
-                            "(force per unit length; empty: part unused).");
+                            std::string("Boundary ids loaded by the traction "
+                                        "F_d (force per unit ") +
+                              (dim == 2 ? "length" : "area") +
+                              "; empty: part unused).");
           Functions::ParsedFunction<dim>::declare_parameters(prm, dim);
           prm.leave_subsection();
         }
@@ -261,4 +263,5 @@ namespace Signorini
   }
 
   template class BoundaryConditions<2>;
+  template class BoundaryConditions<3>;
 } // namespace Signorini

@@ -27,4 +27,5 @@ namespace Signorini
   }
 
   template class CellDataPostprocessor<2>;
+  template class CellDataPostprocessor<3>;
 } // namespace Signorini

@@ -398,7 +398,9 @@ namespace Signorini
 
 
   void
-  parse_parameter_file(ParameterHandler &prm, const std::string &filename)
+  parse_parameter_file(ParameterHandler  &prm,
+                       const std::string &filename,
+                       const bool         skip_undefined)
   {
     const std::string name = "parameter file <" + filename + ">";
     // A file that is missing, not a file or without content is a mistake:
@@ -483,11 +485,11 @@ namespace Signorini
         // read above
         std::istringstream input(text);
         if (extension == ".prm")
-          prm.parse_input(input, filename, "", /*skip_undefined=*/false);
+          prm.parse_input(input, filename, "", skip_undefined);
         else if (extension == ".xml")
-          prm.parse_input_from_xml(input, /*skip_undefined=*/false);
+          prm.parse_input_from_xml(input, skip_undefined);
         else if (extension == ".json")
-          prm.parse_input_from_json(input, /*skip_undefined=*/false);
+          prm.parse_input_from_json(input, skip_undefined);
         else
           throw InputError(name + ": unknown type; a parameter file ends in "
                                   ".prm (or .xml, .json)");

@@ -24,6 +24,28 @@ namespace
            "default parameter file\n"
            "       signorini --help\n";
   }
+
+  /// Read the parameter file @p filename and run (or only validate) the
+  /// problem in @p dim dimensions.
+  template <int dim>
+  void
+  run(const std::string &filename, const bool validate_only)
+  {
+    using namespace Signorini;
+    ParameterHandler prm;
+    SignoriniProblem<dim>::declare_parameters(prm);
+    parse_parameter_file(prm, filename);
+    SignoriniProblem<dim> problem(
+      prm, std::filesystem::path(filename).parent_path().string());
+    if (validate_only)
+      {
+        problem.validate();
+        if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+          std::cout << filename << ": valid" << std::endl;
+        return;
+      }
+    problem.run();
+  }
 } // namespace
 
 
@@ -73,9 +95,6 @@ main(int argc, char **argv)
   };
   try
     {
-      ParameterHandler prm;
-      SignoriniProblem<2>::declare_parameters(prm);
-
       if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h"))
         {
           if (root)
@@ -84,6 +103,8 @@ main(int argc, char **argv)
         }
       if (args.size() == 1 && args[0] == "--print-parameters")
         {
+          ParameterHandler prm;
+          SignoriniProblem<2>::declare_parameters(prm);
           if (root)
             prm.print_parameters(std::cout, ParameterHandler::PRM);
           return 0;
@@ -110,17 +131,24 @@ main(int argc, char **argv)
         }
       const std::string filename = args.back();
 
-      parse_parameter_file(prm, filename);
-      SignoriniProblem<2> problem(
-        prm, std::filesystem::path(filename).parent_path().string());
-      if (validate_only)
-        {
-          problem.validate();
-          if (root)
-            std::cout << filename << ": valid" << std::endl;
-          return 0;
-        }
-      problem.run();
+      // The dimension first (as in ASPECT and Lethe): it decides which
+      // problem declares and reads the other parameters.
+      ParameterHandler dimension_prm;
+      declare_dimension(dimension_prm, 2);
+      parse_parameter_file(dimension_prm, filename, /*skip_undefined=*/true);
+      const unsigned int dimension = dimension_prm.get_integer("Dimension");
+      if (dimension == 2)
+        run<2>(filename, validate_only);
+      else
+        try
+          {
+            run<3>(filename, validate_only);
+          }
+        catch (const InputError &exc)
+          {
+            // the parts that are 2D only say so by name
+            throw InputError("Dimension = 3: " + std::string(exc.what()));
+          }
     }
   catch (const InputError &exc)
     {

@@ -1,8 +1,26 @@
 #include <signorini/input_error.h>
 #include <signorini/material.h>
+#include <signorini/registry.h>
 
 namespace Signorini
 {
+  namespace
+  {
+    /// The names of the values of Material/Plane state.
+    template <int dim>
+    const NamedValues<typename LinearElasticMaterial<dim>::PlaneState> &
+    plane_state_names()
+    {
+      using PlaneState = typename LinearElasticMaterial<dim>::PlaneState;
+      static const NamedValues<PlaneState> names(
+        {{"plane strain", PlaneState::plane_strain, ""},
+         {"plane stress", PlaneState::plane_stress, ""}});
+      return names;
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   LinearElasticMaterial<dim>::declare_parameters(ParameterHandler &prm)
@@ -18,8 +36,9 @@ namespace Signorini
                         Patterns::Double(),
                         "Poisson's ratio nu, in (-1, 0.5).");
       prm.declare_entry("Plane state",
-                        "plane strain",
-                        Patterns::Selection("plane strain|plane stress"),
+                        plane_state_names<dim>().default_name(),
+                        Patterns::Selection(
+                          plane_state_names<dim>().selection()),
                         "2D reduction of the 3D law.");
     }
     prm.leave_subsection();
@@ -35,7 +54,7 @@ namespace Signorini
     {
       young_modulus = prm.get_double("Young modulus");
       poisson_ratio = prm.get_double("Poisson ratio");
-      plane_stress  = (prm.get("Plane state") == "plane stress");
+      plane_state   = plane_state_names<dim>().value(prm.get("Plane state"));
     }
     prm.leave_subsection();
     if (!(young_modulus > 0.))
@@ -52,13 +71,13 @@ namespace Signorini
 
   template <int dim>
   void
-  LinearElasticMaterial<dim>::set(const double E,
-                                  const double nu,
-                                  const bool   plane_stress_)
+  LinearElasticMaterial<dim>::set(const double     E,
+                                  const double     nu,
+                                  const PlaneState plane_state_)
   {
     young_modulus = E;
     poisson_ratio = nu;
-    plane_stress  = plane_stress_;
+    plane_state   = plane_state_;
   }
 
 
@@ -78,7 +97,7 @@ namespace Signorini
   {
     const double lambda_3d = young_modulus * poisson_ratio /
                              ((1. + poisson_ratio) * (1. - 2. * poisson_ratio));
-    if (plane_stress && dim == 2)
+    if (plane_state == PlaneState::plane_stress && dim == 2)
       return 2. * lambda_3d * mu() / (lambda_3d + 2. * mu());
     return lambda_3d;
   }
@@ -113,7 +132,9 @@ namespace Signorini
   LinearElasticMaterial<dim>::out_of_plane_stress(
     const SymmetricTensor<2, dim> &eps) const
   {
-    return (dim == 2 && !plane_stress) ? lambda() * trace(eps) : 0.;
+    return (dim == 2 && plane_state == PlaneState::plane_strain) ?
+             lambda() * trace(eps) :
+             0.;
   }
 
 

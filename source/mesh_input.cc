@@ -4,12 +4,29 @@
 #include <signorini/gmsh_file_check.h>
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
+#include <signorini/registry.h>
 
 #include <cmath>
 #include <sstream>
 
 namespace Signorini
 {
+  namespace
+  {
+    /// The names of the values of Mesh/Source.
+    template <int dim>
+    const NamedValues<typename MeshInput<dim>::Source> &
+    source_names()
+    {
+      using Source = typename MeshInput<dim>::Source;
+      static const NamedValues<Source> names(
+        {{"block", Source::block, ""}, {"file", Source::file, ""}});
+      return names;
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   MeshInput<dim>::declare_parameters(ParameterHandler &prm)
@@ -17,8 +34,8 @@ namespace Signorini
     prm.enter_subsection("Mesh");
     {
       prm.declare_entry("Source",
-                        "block",
-                        Patterns::Selection("block|file"),
+                        source_names<dim>().default_name(),
+                        Patterns::Selection(source_names<dim>().selection()),
                         "'block': the unit square of the paper's example, "
                         "generated; 'file': read 'File name'.");
       prm.declare_entry("File name",
@@ -30,7 +47,8 @@ namespace Signorini
                         "the parameter file.");
       prm.declare_entry("Block subdivisions",
                         "4, 3",
-                        Patterns::List(Patterns::Integer(1), dim, dim),
+                        // (the block is 2D only)
+                        Patterns::List(Patterns::Integer(1), 2, 2),
                         "Rectangles per direction of the generated block; "
                         "each is cut into 8 triangles (4 x 3 gives the "
                         "paper's 96).");
@@ -51,7 +69,7 @@ namespace Signorini
   {
     prm.enter_subsection("Mesh");
     {
-      source    = prm.get("Source");
+      source    = source_names<dim>().value(prm.get("Source"));
       file_name = prm.get("File name");
       block_subdivisions.clear();
       for (const auto &s :
@@ -60,8 +78,16 @@ namespace Signorini
       initial_refinements = prm.get_integer("Initial refinements");
     }
     prm.leave_subsection();
-    if (source == "file" && file_name.empty())
+    if (source == Source::file && file_name.empty())
       throw InputError("Mesh/File name is empty but Mesh/Source = file");
+    // both sources make triangles
+    if (dim != 2)
+      throw InputError("Mesh/Source = " + source_names<dim>().name(source) +
+                       ": " +
+                       (source == Source::block ?
+                          "the generated block" :
+                          "the Gmsh reader (strictly checked triangles)") +
+                       " is implemented in 2D only");
   }
 
 
@@ -128,7 +154,7 @@ namespace Signorini
   void
   MeshInput<dim>::create(Triangulation<dim> &triangulation) const
   {
-    if (source == "block")
+    if (source == Source::block)
       {
         if (dim != 2)
           throw InputError("Mesh/Source = block is only defined in 2D");
@@ -189,4 +215,5 @@ namespace Signorini
   }
 
   template class MeshInput<2>;
+  template class MeshInput<3>;
 } // namespace Signorini

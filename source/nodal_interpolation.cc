@@ -16,20 +16,43 @@ namespace Signorini
 {
   namespace
   {
-    /// Barycentric coordinates of @p p in the triangle of @p cell.
+    /// Barycentric coordinates of @p p in the triangle or tetrahedron of
+    /// @p cell.
     template <typename Iterator, int dim>
-    std::array<double, 3>
+    std::array<double, dim + 1>
     barycentric(const Iterator &cell, const Point<dim> &p)
     {
-      const Point<dim> a = cell->vertex(0), b = cell->vertex(1),
-                       c = cell->vertex(2);
-      const double det =
-        (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-      const double l1 =
-        ((p[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (p[1] - a[1])) / det;
-      const double l2 =
-        ((b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1])) / det;
-      return {{1. - l1 - l2, l1, l2}};
+      if constexpr (dim == 2)
+        {
+          const Point<dim> a = cell->vertex(0), b = cell->vertex(1),
+                           c = cell->vertex(2);
+          const double det =
+            (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+          const double l1 =
+            ((p[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (p[1] - a[1])) /
+            det;
+          const double l2 =
+            ((b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1])) /
+            det;
+          return {{1. - l1 - l2, l1, l2}};
+        }
+      else
+        {
+          // p - x_0 = sum_k lambda_k (x_k - x_0), k = 1..dim
+          Tensor<2, dim> edges;
+          for (unsigned int k = 1; k <= dim; ++k)
+            for (unsigned int d = 0; d < dim; ++d)
+              edges[d][k - 1] = cell->vertex(k)[d] - cell->vertex(0)[d];
+          const Tensor<1, dim> lambda = invert(edges) * (p - cell->vertex(0));
+          std::array<double, dim + 1> result;
+          result[0] = 1.;
+          for (unsigned int k = 1; k <= dim; ++k)
+            {
+              result[k] = lambda[k - 1];
+              result[0] -= lambda[k - 1];
+            }
+          return result;
+        }
     }
   } // namespace
 
@@ -41,7 +64,6 @@ namespace Signorini
                           const Vector<double>  &u,
                           const DoFHandler<dim> &target)
   {
-    Assert(dim == 2, ExcNotImplemented());
     namespace bgi  = boost::geometry::index;
     using Iterator = typename DoFHandler<dim>::active_cell_iterator;
 
@@ -69,13 +91,14 @@ namespace Signorini
           hits.clear();
           tree.query(bgi::intersects(p), std::back_inserter(hits));
           // the candidate the point is deepest inside (round-off on edges)
-          double                best_margin = -1e300;
-          unsigned int          best        = 0;
-          std::array<double, 3> weights{};
+          double                      best_margin = -1e300;
+          unsigned int                best        = 0;
+          std::array<double, dim + 1> weights{};
           for (const auto &hit : hits)
             {
               const auto   lambda = barycentric(cells[hit.second], p);
-              const double margin = std::min({lambda[0], lambda[1], lambda[2]});
+              const double margin =
+                *std::min_element(lambda.begin(), lambda.end());
               if (margin > best_margin)
                 {
                   best_margin = margin;
@@ -91,7 +114,7 @@ namespace Signorini
           for (unsigned int c = 0; c < dim; ++c)
             {
               double value = 0.;
-              for (unsigned int w = 0; w < 3; ++w)
+              for (unsigned int w = 0; w <= dim; ++w)
                 value += weights[w] * u[cells[best]->vertex_dof_index(w, c)];
               result[cell->vertex_dof_index(v, c)] = value;
             }
@@ -103,4 +126,8 @@ namespace Signorini
   interpolate_at_vertices(const DoFHandler<2> &,
                           const Vector<double> &,
                           const DoFHandler<2> &);
+  template Vector<double>
+  interpolate_at_vertices(const DoFHandler<3> &,
+                          const Vector<double> &,
+                          const DoFHandler<3> &);
 } // namespace Signorini

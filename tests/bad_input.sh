@@ -5,6 +5,9 @@
 set -u
 exe=$1
 src=$2
+# the tests' copy of the block example (the line numbers in the expected
+# messages below count its 49 lines); the tests do not read prm/
+block=$src/tests/inputs/block.prm
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
@@ -40,7 +43,7 @@ check() {
 # error; case_prm_exit CODE NAME EXPECTED TEXT: the same with exit code CODE
 case_prm_exit() {
   local want=$1 name=$2 expected=$3 text=$4
-  { cat "$src/prm/block.prm"; printf '%s\n' "$text"; } > "$work/case.prm"
+  { cat "$block"; printf '%s\n' "$text"; } > "$work/case.prm"
   printf 'set Output directory = %s/out\n' "$work" >> "$work/case.prm"
   check_exit "$want" "$name" "$expected" "$work/case.prm"
 }
@@ -49,6 +52,14 @@ case_prm() {
 }
 
 printf 'not a mesh\n' > "$work/garbage.msh"
+
+# Dimension: read first; 3 reaches the parts that are 2D only, which say so
+printf 'set Dimension = 3\nset Output directory = %s/out\n' "$work" > "$work/dim3.prm"
+check "Dimension = 3" "Dimension = 3: Mesh/Source = block: the generated block is implemented in 2D only" \
+  "$work/dim3.prm"
+case_prm "Dimension = 4" "Dimension: The entry value 4" "set Dimension = 4"
+case_prm "Dimension = 3 with 2D data" "Dimension = 3: Boundary conditions/Dirichlet 1: invalid function" \
+  "set Dimension = 3"
 
 case_prm "missing mesh file" "cannot open mesh file" \
   "subsection Mesh
@@ -163,7 +174,7 @@ valid_prm() {
 }
 # mesh_ok NAME FILE: --validate accepts the block example on FILE
 mesh_ok() {
-  { cat "$src/prm/block.prm"; mesh_prm "$2"; echo
+  { cat "$block"; mesh_prm "$2"; echo
     printf 'set Output directory = %s/out\n' "$work"; } > "$work/case.prm"
   valid_prm "$1" --validate "$work/case.prm"
 }
@@ -181,7 +192,7 @@ mesh_ok "CRLF line ends, a comment section" "$work/crlf.msh"
 sed '3a $PhysicalNames\n1\n1 2 "contact zone"\n$EndPhysicalNames' "$msh22" \
   > "$work/names.msh"
 mesh_ok "physical names" "$work/names.msh"
-{ cat "$src/prm/block.prm"; mesh_prm "$msh41"; echo
+{ cat "$block"; mesh_prm "$msh41"; echo
   printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
   printf 'subsection Output\n  set Write vtu = false\nend\n'; } > "$work/case.prm"
 valid_prm "a computation on the Gmsh 4.1 mesh" "$work/case.prm"
@@ -306,7 +317,7 @@ check "parameter file of comments" "comments.prm>: is empty (only comments)" "$w
 mkdir -p "$work/dir.prm"
 check "parameter file is a directory" "dir.prm>: is a directory" "$work/dir.prm"
 check "parameter file /dev/zero" "zero>: is not a regular file" /dev/zero
-{ printf '\357\273\277'; cat "$src/prm/block.prm"
+{ printf '\357\273\277'; cat "$block"
   printf 'set Output directory = %s/out\n' "$work"; } > "$work/bom.prm"
 valid_prm "UTF-8 byte order mark" --validate "$work/bom.prm"
 case_prm "constant p=0.1x" "Traction 1: Function constants = p=0.1x: the value <0.1x> of p" \
@@ -419,7 +430,7 @@ end"
 run_ok() {
   local name=$1 text=$2
   shift 2
-  { cat "$src/prm/block.prm"
+  { cat "$block"
     printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
     printf 'subsection Output\n  set Write vtu = false\nend\n'
     printf '%s\n' "$text"
@@ -525,7 +536,7 @@ end"
 # outdir_prm FILE DIR [TEXT]: the block example with TEXT, writing into DIR
 # (set last: case_prm's own directory would override a case's)
 outdir_prm() {
-  { cat "$src/prm/block.prm"; printf '%s\n' "${3:-}"
+  { cat "$block"; printf '%s\n' "${3:-}"
     printf 'set Output directory = %s\n' "$2"; } > "$1"
 }
 # expect NAME CONDITION...: a check of the files a run left
@@ -795,7 +806,7 @@ printf 'include %s/inc/none.prm\n' "$work" > "$work/inc/c.prm"
 check "nested included file missing" \
   "<.*inc/c.prm> line 1 -> <.*inc/none.prm>: the included file does not exist" \
   "$work/inc/c.prm"
-{ sed '/Output directory/d' "$src/prm/block.prm"
+{ sed '/Output directory/d' "$block"
   printf 'set Output directory = %s/out\n' "$work"; } > "$work/inc/body.prm"
 printf '# the block\n\tinclude %s/inc/body.prm\n' "$work" > "$work/inc/ok.prm"
 valid_prm "include (indented, by tab)" --validate "$work/inc/ok.prm"
@@ -844,7 +855,7 @@ check "JSON array" \
   "$work/array.json"
 printf '{"Material":\n {"Young modulus": [1,2]}}\n' > "$work/value.json"
 check "JSON array value" "<.*value.json>: line 2: a JSON array" "$work/value.json"
-{ cat "$src/prm/block.prm"
+{ cat "$block"
   printf 'subsection Material\n  set Poisson ratio = 0.3\0abc\nend\n'; } \
   > "$work/nul.prm"
 check "NUL byte" "<.*nul.prm>: contains a NUL byte (binary file?)" "$work/nul.prm"
@@ -920,7 +931,7 @@ mesh_case "coordinates of 1e160" \
   "$work/far.msh"
 for scale in 1e90 1e-90; do
   msh22_nodes "$work/scaled.msh" "x = \$2 * $scale; y = \$3 * $scale"
-  { cat "$src/prm/block.prm"; mesh_prm "$work/scaled.msh"; echo
+  { cat "$block"; mesh_prm "$work/scaled.msh"; echo
     printf 'set Number of cycles = 1\nset Output directory = %s/out\n' "$work"
     printf 'subsection Output\n  set Write vtu = false\nend\n'; } > "$work/case.prm"
   valid_prm "a computation on the square scaled by $scale" "$work/case.prm"
@@ -1014,18 +1025,18 @@ end"
 check "defaults: parse back, no support" "the body is free to move" \
   --validate "$work/defaults.prm"
 
-# and the good paths: --validate accepts the shipped examples (from $work:
-# their relative output directories are the current directory's, and one
-# left there by an older version, without a manifest, is refused)
+# and the good paths: --validate accepts the tests' copies of the examples
+# (from $work: their relative output directories are the current
+# directory's, and one left there by an older version, without a manifest,
+# is refused; hertz.prm reads its mesh by a relative path)
 count=$((count + 1))
 if (exe=$(readlink -f "$exe") && src=$(readlink -f "$src") && cd "$work" &&
-    "$exe" --validate "$src/prm/block.prm" > /dev/null &&
-    "$exe" --validate "$src/prm/block-adaptive.prm" > /dev/null &&
-    "$exe" --validate "$src/prm/manufactured.prm" > /dev/null &&
-    "$exe" --validate "$src/prm/hertz.prm" > /dev/null); then
-  echo "ok   --validate of the examples"
+    "$exe" --validate "$src/tests/inputs/block.prm" > /dev/null &&
+    "$exe" --validate "$src/tests/inputs/manufactured.prm" > /dev/null &&
+    "$exe" --validate "$src/tests/inputs/hertz.prm" > /dev/null); then
+  echo "ok   --validate of the example copies"
 else
-  echo "FAIL --validate of the examples"
+  echo "FAIL --validate of the example copies"
   failures=$((failures + 1))
 fi
 

@@ -1,13 +1,14 @@
-// The error in constitutive relation (spec sections 3-4) on the block, both
-// conditions, two meshes against a reference two levels finer than the
-// finest, and on the manufactured solution without contact, with both
-// stress reconstructions:
+// The error in constitutive relation (paper sections 3 and 5, [8]-[14];
+// doc/theory.md section 7) on the block, both conditions, two meshes against
+// a reference two levels finer than the finest, and on the manufactured
+// solution without contact, with both stress reconstructions:
 // - star patch (the default): the effectivity index is in [1, 2] on every
 //   mesh, the patch problems are solved with data in equilibrium and the
 //   FE equilibrium R(phi_i) = 0 they rely on holds, to round-off;
 // - element equilibration: the element data of the local problems are in
 //   equilibrium (resultant and moment) and satisfy the prolongation
-//   condition, to round-off (its effectivity, 2.6-3.1, is printed);
+//   condition, to round-off (its effectivity is printed; measured values in
+//   doc/estimator.md);
 // - sum_E eps_E^2 = eps^2 [11] to round-off;
 // - the contact term is non-negative on every element (the number of
 //   elements where it is non-zero is compared with the reference output);
@@ -32,7 +33,7 @@ namespace
   {
     ParameterHandler prm;
     read_parameters(prm, prm_file, overrides);
-    SignoriniProblem<2> problem(prm, prm_directory());
+    SignoriniProblem<2> problem(prm, input_directory());
     run_quietly(problem);
     Estimate e{problem.error_estimate(), {}};
     for (const auto column : {"cells",

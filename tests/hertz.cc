@@ -1,4 +1,4 @@
-// Hertz contact of a cylinder on a rigid plane (prm/hertz.prm), both
+// Hertz contact of a cylinder on a rigid plane (tests/inputs/hertz.prm), both
 // discrete conditions: the computed contact half-width must be within one
 // contact element of a = sqrt(4 P R / (pi E*)), and the contact pressure
 // -Lambda within 5 % of p(x) = 2P/(pi a^2) sqrt(a^2 - x^2) in relative L2 norm

@@ -1,6 +1,7 @@
-// Pure elasticity on a manufactured smooth solution (prm/manufactured.prm):
-// the energy-norm error of P1 must converge at rate 1 in h over 5 uniformly
-// refined meshes (least-squares slope within 0.1 of 1).
+// Pure elasticity on a manufactured smooth solution
+// (tests/inputs/manufactured.prm): the energy-norm error of P1 must converge
+// at rate 1 in h over 5 uniformly refined meshes (least-squares slope within
+// 0.1 of 1).
 
 #include "tests.h"
 

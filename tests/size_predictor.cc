@@ -1,5 +1,7 @@
-// The size predictors of spec section 5, on synthetic local errors:
-// - optimal size, uniform rate: r_E equals the closed form of spec section 5
+// The size predictors of the paper's section 6 (doc/adaptation.md), on
+// synthetic local errors:
+// - optimal size, uniform rate: r_E equals the closed form of
+//   doc/adaptation.md
 //   and the predicted error sum eps_E^2 r_E^(2q) is eps_0^2;
 // - optimal size with a reduced rate on some cells: the constraint holds
 //   and the Lagrange condition of the minimisation of N* = sum r_E^-d holds

@@ -43,22 +43,23 @@ namespace SignoriniTests
     Vector<double>                             dual;
   };
 
-  /// Directory of the example parameter files.
+  /// Directory of the tests' parameter files (tests/inputs: copies of the
+  /// examples, so that editing prm/ does not change the tests).
   inline std::string
-  prm_directory()
+  input_directory()
   {
-    return std::string(SOURCE_DIR) + "/../prm";
+    return std::string(SOURCE_DIR) + "/inputs";
   }
 
-  /// Declare all parameters and read @p prm_file (from prm/) with overrides;
-  /// timing and VTU output off.
+  /// Declare all parameters and read @p prm_file (from tests/inputs/) with
+  /// overrides; timing and VTU output off.
   inline void
   read_parameters(ParameterHandler                         &prm,
                   const std::string                        &prm_file,
                   const std::map<std::string, std::string> &overrides)
   {
     SignoriniProblem<2>::declare_parameters(prm);
-    parse_parameter_file(prm, prm_directory() + "/" + prm_file);
+    parse_parameter_file(prm, input_directory() + "/" + prm_file);
     set_entry(prm, "Output/Print timing", "false");
     set_entry(prm, "Output/Write vtu", "false");
     for (const auto &[path, value] : overrides)
@@ -86,7 +87,8 @@ namespace SignoriniTests
     return logfile;
   }
 
-  /// Run @p prm_file (from prm/) with overrides, without the estimator.
+  /// Run @p prm_file (from tests/inputs/) with overrides, without the
+  /// estimator.
   inline Result
   run(const std::string                        &prm_file,
       const std::map<std::string, std::string> &overrides)
@@ -95,7 +97,7 @@ namespace SignoriniTests
     auto             o = overrides;
     o.emplace("Error estimator/Enable", "false");
     read_parameters(prm, prm_file, o);
-    SignoriniProblem<2> problem(prm, prm_directory());
+    SignoriniProblem<2> problem(prm, input_directory());
     run_quietly(problem);
 
     Result result;

@@ -25,7 +25,8 @@ namespace Signorini
    * displacements (part G1, any component mask), tractions F_d (part G2) and
    * the body force f_d. Each Dirichlet or traction part is a numbered
    * subsection with a list of boundary ids and a parsed vector function of
-   * (x, y) (components separated by ';'); unused parts have no ids.
+   * (x, y), or (x, y, z) in 3D (components separated by ';'); unused parts
+   * have no ids.
    *
    * Several parts may name the same boundary id: Dirichlet parts with
    * disjoint components (e.g. x by one part, y by another), traction parts

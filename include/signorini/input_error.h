@@ -29,9 +29,13 @@ namespace Signorini
    * Read @p filename into @p prm. deal.II's own exceptions (unknown entry,
    * value not matching its pattern, missing file) are turned into an
    * InputError whose message is the one-line essence of deal.II's text.
+   * With @p skip_undefined, entries @p prm does not declare are ignored (to
+   * read one entry, such as Dimension, before the others are declared).
    */
   void
-  parse_parameter_file(ParameterHandler &prm, const std::string &filename);
+  parse_parameter_file(ParameterHandler  &prm,
+                       const std::string &filename,
+                       const bool         skip_undefined = false);
 
   /**
    * Parse the Functions::ParsedFunction declared in the current subsection of

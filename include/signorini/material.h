@@ -18,6 +18,13 @@ namespace Signorini
   class LinearElasticMaterial
   {
   public:
+    /// The 2D reduction of the 3D law (Material/Plane state).
+    enum class PlaneState
+    {
+      plane_strain,
+      plane_stress
+    };
+
     static void
     declare_parameters(ParameterHandler &prm);
 
@@ -28,9 +35,9 @@ namespace Signorini
 
     /// Set the constants directly (unit tests, benchmarks).
     void
-    set(const double young_modulus,
-        const double poisson_ratio,
-        const bool   plane_stress);
+    set(const double     young_modulus,
+        const double     poisson_ratio,
+        const PlaneState plane_state);
 
     /// K : eps
     SymmetricTensor<2, dim>
@@ -56,9 +63,9 @@ namespace Signorini
     double
     mu() const;
 
-    double young_modulus = 1.0;
-    double poisson_ratio = 0.3;
-    bool   plane_stress  = false;
+    double     young_modulus = 1.0;
+    double     poisson_ratio = 0.3;
+    PlaneState plane_state   = PlaneState::plane_strain;
   };
 } // namespace Signorini
 

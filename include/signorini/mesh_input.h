@@ -27,9 +27,18 @@ namespace Signorini
   class MeshInput
   {
   public:
+    /// Where the mesh comes from (Mesh/Source).
+    enum class Source
+    {
+      block,
+      file
+    };
+
     static void
     declare_parameters(ParameterHandler &prm);
 
+    /// Read section Mesh. Both sources make triangles: for dim = 3 this
+    /// throws an InputError naming Mesh/Source (so does create()).
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -51,7 +60,7 @@ namespace Signorini
     double
     n_block_cells() const;
 
-    std::string               source = "block";
+    Source                    source = Source::block;
     std::string               file_name;
     std::string               input_directory     = ".";
     std::vector<unsigned int> block_subdivisions  = {4, 3};

@@ -12,7 +12,8 @@ namespace Signorini
   /**
    * Stress output of the finite element solution sigma_h = K eps(u_h):
    * the in-plane components, sigma_zz of the plane state and the von Mises
-   * stress, as point data (constant per P1 cell).
+   * stress, as point data (constant per P1 cell). In 3D: the six components
+   * (xx, yy, zz, xy, yz, xz) and the von Mises stress.
    */
   template <int dim>
   class StressPostprocessor : public DataPostprocessor<dim>

@@ -1,6 +1,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/input_error.h>
 
 #include <algorithm>
 #include <functional>
@@ -216,5 +217,15 @@ namespace Signorini
     return green_cells;
   }
 
+  template <>
+  void
+  AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &)
+  {
+    throw InputError("Mesh adaptation: the adaptive meshes (rebuilt from the "
+                     "initial mesh and closed by green bisection, for every "
+                     "Strategy) are implemented in 2D only (triangles)");
+  }
+
   template class AdaptiveMesh<2>;
+  template class AdaptiveMesh<3>;
 } // namespace Signorini

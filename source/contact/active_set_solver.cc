@@ -203,4 +203,5 @@ namespace Signorini
   }
 
   template class ActiveSetSolver<2>;
+  template class ActiveSetSolver<3>;
 } // namespace Signorini

@@ -225,4 +225,5 @@ namespace Signorini
 
 
   template class ContactCondition<2>;
+  template class ContactCondition<3>;
 } // namespace Signorini

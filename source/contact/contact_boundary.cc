@@ -38,7 +38,7 @@ namespace Signorini
         std::cout << "Warning: " << text << std::endl;
     }
 
-    /// "(x, y)" with a few digits, for messages
+    /// "(x, y)" or "(x, y, z)" with a few digits, for messages
     template <int dim>
     std::string
     point_text(const Point<dim> &p)
@@ -69,9 +69,11 @@ namespace Signorini
       prm.declare_entry("Direction",
                         outward_normal,
                         Patterns::Anything(),
-                        "Unit vector nu_c from the body into the foundation, "
-                        "as 'x, y' (normalised on input), or 'outward "
-                        "normal' for a flat GC.");
+                        std::string("Unit vector nu_c from the body into "
+                                    "the foundation, as ") +
+                          (dim == 2 ? "'x, y'" : "'x, y, z'") +
+                          " (normalised on input), or 'outward normal' for a "
+                          "flat GC.");
       prm.enter_subsection("Gap");
       Functions::ParsedFunction<dim>::declare_parameters(prm, 1);
       prm.leave_subsection();
@@ -223,8 +225,7 @@ namespace Signorini
             if (hanging_node_constraints.is_constrained(node.dofs[c]))
               throw std::runtime_error(
                 "a hanging node lies on the contact boundary at " +
-                Utilities::to_string(node.position[0]) + ", " +
-                Utilities::to_string(node.position[1]) +
+                point_text(node.position) +
                 "; meshes must be conforming on GC");
             if (std::abs(contact_direction[c]) > 1e-12 &&
                 dirichlet_constraints.is_constrained(node.dofs[c]))
@@ -554,4 +555,5 @@ namespace Signorini
   }
 
   template class ContactBoundary<2>;
+  template class ContactBoundary<3>;
 } // namespace Signorini

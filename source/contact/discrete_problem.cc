@@ -506,4 +506,5 @@ namespace Signorini
   }
 
   template class DiscreteContactProblem<2>;
+  template class DiscreteContactProblem<3>;
 } // namespace Signorini

@@ -286,4 +286,5 @@ namespace Signorini
   }
 
   template class FrankWolfeSolver<2>;
+  template class FrankWolfeSolver<3>;
 } // namespace Signorini

@@ -70,4 +70,5 @@ namespace Signorini
   }
 
   template class IntegralCondition<2>;
+  template class IntegralCondition<3>;
 } // namespace Signorini

@@ -160,4 +160,5 @@ namespace Signorini
   }
 
   template class PointwiseCondition<2>;
+  template class PointwiseCondition<3>;
 } // namespace Signorini

@@ -268,18 +268,27 @@ namespace Signorini
         text << "rotation about (" << round(centre[0] - diameter * z[1] / w)
              << ", " << round(centre[1] + diameter * z[0] / w) << ")";
       }
-    else
+    else if constexpr (dim == 3)
       {
-        text << "rigid motion with translation (";
-        for (unsigned int d = 0; d < dim; ++d)
-          text << (d > 0 ? ", " : "") << round(translation[d]);
-        text << ") and rotation (";
-        for (unsigned int k = dim; k < n_rigid_motions; ++k)
-          text << (k > dim ? ", " : "") << round(z[k]);
-        text << ") per diameter";
+        // z(x) = t + omega x (x - c) / L, omega from the rotations in the
+        // planes (x, y), (y, z), (x, z) of rigid_motion(): a screw about
+        // the axis along omega through c + L (omega x t) / |omega|^2, along
+        // which it moves by (omega . t) / |omega|
+        const Tensor<1, 3> omega({z[4], -z[5], z[3]});
+        const Point<3>     on_axis =
+          centre +
+          diameter * cross_product_3d(omega, translation) / omega.norm_square();
+        const Tensor<1, 3> axis = omega / omega.norm();
+        text << "rotation about the axis through (" << round(on_axis[0]) << ", "
+             << round(on_axis[1]) << ", " << round(on_axis[2]) << ") along ("
+             << round(axis[0]) << ", " << round(axis[1]) << ", "
+             << round(axis[2]) << ")";
+        if (std::abs(axis * translation) > 1e-8 * translation.norm())
+          text << " with a translation along it";
       }
     return text.str();
   }
 
   template class RigidMotions<2>;
+  template class RigidMotions<3>;
 } // namespace Signorini

@@ -2,6 +2,7 @@
 
 #include <signorini/contact/solution_checks.h>
 
+#include <array>
 #include <cmath>
 
 namespace Signorini
@@ -36,7 +37,6 @@ namespace Signorini
                  const std::vector<Point<dim>>     &support_points,
                  const std::vector<unsigned int>   &dof_component)
   {
-    static_assert(dim == 2, "the moment balance is written for 2D");
     SolutionChecks checks;
 
     // complementarity conditions
@@ -74,9 +74,13 @@ namespace Signorini
     for (const auto i : u.locally_owned_elements())
       if (!all.is_constrained(i))
         applied_scale = std::max(applied_scale, std::abs(applied[i]));
-    Tensor<1, dim> force;
-    double         moment = 0.;
-    Point<dim>     lower = support_points[0], upper = support_points[0];
+    // the moment about the origin in each coordinate plane (a, b): one in
+    // 2D (the plane (x, y)), three in 3D (the components of x cross f)
+    static constexpr unsigned int n_planes     = dim * (dim - 1) / 2;
+    static constexpr unsigned int planes[3][2] = {{0, 1}, {1, 2}, {0, 2}};
+    Tensor<1, dim>                force;
+    std::array<double, n_planes>  moment{};
+    Point<dim> lower = support_points[0], upper = support_points[0];
     for (const auto i : u.locally_owned_elements())
       {
         const Point<dim> &x = support_points[i];
@@ -93,7 +97,14 @@ namespace Signorini
         load_sum += std::abs(f);
         const unsigned int c = dof_component[i];
         force[c] += f;
-        moment += (c == 0 ? -x[1] * f : x[0] * f);
+        for (unsigned int p = 0; p < n_planes; ++p)
+          {
+            const unsigned int a = planes[p][0], b = planes[p][1];
+            if (c == a)
+              moment[p] += -x[b] * f;
+            else if (c == b)
+              moment[p] += x[a] * f;
+          }
       }
     // (each rank summed over the dofs it owns)
     const MPI_Comm comm = u.get_mpi_communicator();
@@ -101,7 +112,8 @@ namespace Signorini
     checks.residual     = Utilities::MPI::max(checks.residual, comm);
     load_sum            = Utilities::MPI::sum(load_sum, comm);
     force               = Utilities::MPI::sum(force, comm);
-    moment              = Utilities::MPI::sum(moment, comm);
+    for (double &m : moment)
+      m = Utilities::MPI::sum(m, comm);
     for (unsigned int d = 0; d < dim; ++d)
       {
         lower[d] = Utilities::MPI::min(lower[d], comm);
@@ -109,10 +121,17 @@ namespace Signorini
       }
     checks.residual /= std::max(applied_scale, 1e-300);
     const double diameter = (upper - lower).norm();
-    checks.resultant =
-      std::max(
-        {std::abs(force[0]), std::abs(force[1]), std::abs(moment) / diameter}) /
-      std::max(load_sum, 1e-300);
+    // the largest term, NaN if any is NaN
+    double     largest = 0.;
+    const auto include = [&largest](const double value) {
+      if (!std::isnan(largest) && !(value <= largest))
+        largest = value;
+    };
+    for (unsigned int d = 0; d < dim; ++d)
+      include(std::abs(force[d]));
+    for (const double m : moment)
+      include(std::abs(m) / diameter);
+    checks.resultant = largest / std::max(load_sum, 1e-300);
     return checks;
   }
 
@@ -122,5 +141,12 @@ namespace Signorini
                     const Vector<double> &,
                     const AffineConstraints<double> &,
                     const std::vector<Point<2>> &,
+                    const std::vector<unsigned int> &);
+  template SolutionChecks
+  check_solution<3>(const DiscreteContactProblem<3> &,
+                    const LA::Vector &,
+                    const Vector<double> &,
+                    const AffineConstraints<double> &,
+                    const std::vector<Point<3>> &,
                     const std::vector<unsigned int> &);
 } // namespace Signorini

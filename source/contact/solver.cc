@@ -32,4 +32,5 @@ namespace Signorini
   }
 
   template class ContactSolver<2>;
+  template class ContactSolver<3>;
 } // namespace Signorini

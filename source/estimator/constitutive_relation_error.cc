@@ -34,7 +34,11 @@ namespace Signorini
     prm.enter_subsection("Error estimator");
     is_enabled = prm.get_bool("Enable");
     prm.leave_subsection();
-    reconstruction = StressReconstruction<dim>::registry().create(prm);
+    // only when it is used: a reconstruction may refuse the dimension
+    // (both are written for triangles)
+    reconstruction.reset();
+    if (is_enabled)
+      reconstruction = StressReconstruction<dim>::registry().create(prm);
   }
 
 
@@ -97,9 +101,13 @@ namespace Signorini
     result.contact_local.reinit(error_squared.size());
     if (boundary.n_nodes() > 0)
       {
-        const QGauss<dim - 1>            face_quadrature(4);
+        // a segment rule in 2D, a triangle rule on the faces of tetrahedra
+        const Quadrature<dim - 1> face_quadrature =
+          (dim == 2) ? Quadrature<dim - 1>(QGauss<dim - 1>(4)) :
+                       Quadrature<dim - 1>(QGaussSimplex<dim - 1>(4));
+        const auto                      &fe = dof_handler.get_fe();
         FEFaceValues<dim>                fe_face_values(mapping,
-                                         dof_handler.get_fe(),
+                                         fe,
                                          face_quadrature,
                                          update_values |
                                            update_quadrature_points |
@@ -115,18 +123,45 @@ namespace Signorini
                 fe_face_values.reinit(cell, f);
                 fe_face_values[displacement].get_function_values(
                   ghosted_admissible, w_hat);
-                const Point<dim> a      = cell->face(f)->vertex(0);
-                const double     r0     = normal_reaction[boundary.node_index(
-                  cell->face(f)->vertex_index(0))];
-                const double     r1     = normal_reaction[boundary.node_index(
-                  cell->face(f)->vertex_index(1))];
-                const double     length = cell->face(f)->measure();
+                // R^_n is P1 on the face: in 2D linear along the edge
+                // between its two vertices, otherwise the sum of its nodal
+                // values times the hat functions of the face's vertices
+                // (the component-0 shape functions of the cell's vertices)
+                const auto face = cell->face(f);
+                Point<dim> a;
+                double     r0 = 0., r1 = 0., length = 0.;
+                std::vector<std::pair<unsigned int, double>> face_nodes;
+                if (dim == 2)
+                  {
+                    a      = face->vertex(0);
+                    r0     = normal_reaction[boundary.node_index(
+                      face->vertex_index(0))];
+                    r1     = normal_reaction[boundary.node_index(
+                      face->vertex_index(1))];
+                    length = face->measure();
+                  }
+                else
+                  for (const unsigned int w : cell->vertex_indices())
+                    for (const unsigned int v : face->vertex_indices())
+                      if (cell->vertex_index(w) == face->vertex_index(v))
+                        face_nodes.emplace_back(
+                          fe.component_to_system_index(0, w),
+                          normal_reaction[boundary.node_index(
+                            cell->vertex_index(w))]);
                 for (const unsigned int q :
                      fe_face_values.quadrature_point_indices())
                   {
                     const Point<dim> &x = fe_face_values.quadrature_point(q);
-                    const double      s = x.distance(a) / length;
-                    const double      r = (1. - s) * r0 + s * r1;
+                    double            r = 0.;
+                    if (dim == 2)
+                      {
+                        const double s = x.distance(a) / length;
+                        r              = (1. - s) * r0 + s * r1;
+                      }
+                    else
+                      for (const auto &[i, value] : face_nodes)
+                        r +=
+                          value * fe_face_values.shape_value_component(i, q, 0);
                     result.contact_local[cell->active_cell_index()] +=
                       2. * r *
                       (w_hat[q] * boundary.direction() - boundary.gap(x)) *
@@ -162,4 +197,5 @@ namespace Signorini
   }
 
   template class ConstitutiveRelationError<2>;
+  template class ConstitutiveRelationError<3>;
 } // namespace Signorini

@@ -14,6 +14,7 @@
 #include <signorini/estimator/local_loops.h>
 #include <signorini/estimator/vertex_patches.h>
 #include <signorini/input_error.h>
+#include <signorini/registry.h>
 
 #include <algorithm>
 #include <array>
@@ -1281,6 +1282,19 @@ namespace Signorini
         },
         NoScratch());
     }
+
+    /// The names of the values of "Traction densities".
+    template <int dim>
+    const NamedValues<typename ElementEquilibration<dim>::TractionDensities> &
+    traction_densities_names()
+    {
+      using TractionDensities =
+        typename ElementEquilibration<dim>::TractionDensities;
+      static const NamedValues<TractionDensities> names(
+        {{"least squares", TractionDensities::least_squares, ""},
+         {"minimised", TractionDensities::minimised, ""}});
+      return names;
+    }
   } // namespace
 
 
@@ -1295,8 +1309,9 @@ namespace Signorini
                       "Polynomial degree p + k of the element problems "
                       "(p = 1; the paper's k = 2 or 3).");
     prm.declare_entry("Traction densities",
-                      "least squares",
-                      Patterns::Selection("least squares|minimised"),
+                      traction_densities_names<dim>().default_name(),
+                      Patterns::Selection(
+                        traction_densities_names<dim>().selection()),
                       "Choice of the free parameters of the equilibrated "
                       "traction densities: 'least squares' towards the "
                       "averaged FE tractions (classical EET) or 'minimised' "
@@ -1308,7 +1323,8 @@ namespace Signorini
   template <int dim>
   ElementEquilibration<dim>::ElementEquilibration(ParameterHandler &prm)
     : local_degree(prm.get_integer("Local degree"))
-    , optimise_densities(prm.get("Traction densities") == "minimised")
+    , traction_densities(
+        traction_densities_names<dim>().value(prm.get("Traction densities")))
   {}
 
 
@@ -1336,6 +1352,8 @@ namespace Signorini
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
     const MPI_Comm communicator = triangulation.get_communicator();
+    const bool     optimise_densities =
+      (traction_densities == TractionDensities::minimised);
     if (optimise_densities && Utilities::MPI::n_mpi_processes(communicator) > 1)
       throw InputError("Error estimator/Element equilibration/Traction "
                        "densities = minimised runs "
@@ -1379,5 +1397,20 @@ namespace Signorini
       Utilities::MPI::max(problems.equilibrium_defect(), communicator);
   }
 
+
+
+  // the construction above is written for triangles: 3D is refused by name
+  // (the registry does so before; this is for a direct construction)
+  template <>
+  void
+  ElementEquilibration<3>::compute(const EquilibrationInput<3> &,
+                                   const LA::Vector &,
+                                   Vector<double> &,
+                                   Vector<double> &)
+  {
+    throw InputError(reconstruction_is_2d_only("element equilibration"));
+  }
+
   template class ElementEquilibration<2>;
+  template class ElementEquilibration<3>;
 } // namespace Signorini

@@ -30,6 +30,10 @@ namespace Signorini
      * the subsection its caller entered (and declares them there): enter it
      * for it. Any other is registered as the registry expects (it enters
      * its own section).
+     *
+     * A reconstruction not implemented in dimension dim (T::is_implemented
+     * false) keeps its name and parameters, so that a parameter file reads
+     * the same, but choosing it is an InputError naming the entry.
      */
     template <int dim, typename T>
     void
@@ -38,7 +42,30 @@ namespace Signorini
                        const std::string                   &description,
                        const std::string                   &subsection)
     {
-      if constexpr (std::is_constructible_v<T, ParameterHandler &>)
+      if constexpr (!T::is_implemented)
+        {
+          using Declarer =
+            typename Registry<StressReconstruction<dim>>::Declarer;
+          Declarer declare;
+          if constexpr (std::is_constructible_v<T, ParameterHandler &>)
+            declare = [subsection](ParameterHandler &prm) {
+              enter(prm, subsection);
+              T::declare_parameters(prm);
+              leave(prm);
+            };
+          else if constexpr (internal::HasParameters<T>::value)
+            declare = [](ParameterHandler &prm) { T::declare_parameters(prm); };
+          family.add(
+            name,
+            description,
+            typeid(T),
+            [name](ParameterHandler &)
+              -> std::unique_ptr<StressReconstruction<dim>> {
+              throw InputError(reconstruction_is_2d_only(name));
+            },
+            declare);
+        }
+      else if constexpr (std::is_constructible_v<T, ParameterHandler &>)
         family.add(
           name,
           description,
@@ -95,4 +122,5 @@ namespace Signorini
 
 
   template class StressReconstruction<2>;
+  template class StressReconstruction<3>;
 } // namespace Signorini

@@ -27,6 +27,9 @@ namespace Signorini
    * A computational cell refers to the hierarchy cell it comes from; its
    * level is the level of that cell, so that halving a green cell means
    * refining its hierarchy cell once.
+   *
+   * The green closure is written for triangles: in 3D, building a
+   * computational mesh (initialize(), remesh()) throws an InputError.
    */
   template <int dim>
   class AdaptiveMesh
@@ -67,6 +70,11 @@ namespace Signorini
     std::vector<unsigned int> level_of;
     unsigned int              green_cells = 0;
   };
+
+  /// In 3D: throws an InputError (the green closure bisects triangles).
+  template <>
+  void
+  AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &mesh);
 } // namespace Signorini
 
 #endif

@@ -11,8 +11,9 @@ namespace Signorini
 {
   using namespace dealii;
 
-  /// The smallest interior angle of all triangles, in degrees; throws if a
-  /// cell is degenerate (zero area) or inverted (oriented unlike the first
+  /// The smallest interior angle of all triangles, in degrees (in 3D: the
+  /// smallest dihedral angle of all tetrahedra); throws if a cell is
+  /// degenerate (zero area or volume) or inverted (oriented unlike the first
   /// cell).
   template <int dim>
   double

@@ -24,7 +24,8 @@ namespace Signorini
    * - resultant: global equilibrium of applied load, contact forces and
    *   Dirichlet reactions (taken as the residual at Dirichlet dofs): the
    *   largest of the force components and of the moment (divided by the
-   *   diameter), over the sum of the magnitudes of all these nodal forces.
+   *   diameter; in 3D of the three components of the moment), over the sum
+   *   of the magnitudes of all these nodal forces.
    */
   struct SolutionChecks
   {

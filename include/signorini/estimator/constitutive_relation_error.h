@@ -64,7 +64,9 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read it and create the chosen stress reconstruction.
+    /// Read it and, if enabled, create the chosen stress reconstruction
+    /// (which throws an InputError if it is not implemented in dimension
+    /// dim).
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -89,7 +91,7 @@ namespace Signorini
   private:
     /// Error estimator/Enable
     bool is_enabled = false;
-    /// sigma^
+    /// sigma^ (null unless enabled)
     std::unique_ptr<StressReconstruction<dim>> reconstruction;
   };
 } // namespace Signorini

@@ -33,11 +33,27 @@ namespace Signorini
    *
    * Meshes with hanging nodes are not supported (the adaptation builds
    * conforming meshes).
+   *
+   * Written for triangles only: the class exists in 3D (so that the
+   * registry declares the same parameters) but is refused there by name
+   * (is_implemented, StressReconstruction::registry()) and its compute()
+   * throws.
    */
   template <int dim>
   class ElementEquilibration : public StressReconstruction<dim>
   {
   public:
+    /// Whether compute() is implemented in dimension @p dim (triangles).
+    static constexpr bool is_implemented = (dim == 2);
+
+    /// The choice of the free parameters of the traction densities
+    /// ("Traction densities").
+    enum class TractionDensities
+    {
+      least_squares,
+      minimised
+    };
+
     /// "Local degree" and "Traction densities", in the current subsection
     static void
     declare_parameters(ParameterHandler &prm);
@@ -66,11 +82,19 @@ namespace Signorini
   private:
     /// p + k, the degree of the element problems.
     unsigned int local_degree;
-    /// Whether the free parameters of the densities minimise the error
-    /// ("Traction densities = minimised") instead of the least squares
-    /// choice.
-    bool optimise_densities;
+    /// How the free parameters of the densities are chosen: least squares,
+    /// or minimising the error ("Traction densities = minimised").
+    TractionDensities traction_densities;
   };
+
+  /// In 3D: throws an InputError (the construction is written for
+  /// triangles).
+  template <>
+  void
+  ElementEquilibration<3>::compute(const EquilibrationInput<3> &input,
+                                   const LA::Vector &admissible_displacement,
+                                   Vector<double>   &error_squared,
+                                   Vector<double>   &sum_squared);
 } // namespace Signorini
 
 #endif

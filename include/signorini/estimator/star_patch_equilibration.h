@@ -44,11 +44,19 @@ namespace Signorini
    * boundary edge F_d + R^; the patch problems (on the worker threads); per
    * cell ||sigma^ -/+ K eps(U^)||^2_E, the terms of e [14], eps [9] and
    * eps_E [10].
+   *
+   * Written for triangles only: the class exists in 3D (so that the
+   * registry declares the same parameters) but is refused there by name
+   * (is_implemented, StressReconstruction::registry()) and its compute()
+   * throws.
    */
   template <int dim>
   class StarPatchEquilibration : public StressReconstruction<dim>
   {
   public:
+    /// Whether compute() is implemented in dimension @p dim (triangles).
+    static constexpr bool is_implemented = (dim == 2);
+
     /// "Local degree", in the current subsection
     static void
     declare_parameters(ParameterHandler &prm);
@@ -71,6 +79,15 @@ namespace Signorini
     /// The degree of the patch problems.
     unsigned int local_degree;
   };
+
+  /// In 3D: throws an InputError (the construction is written for
+  /// triangles).
+  template <>
+  void
+  StarPatchEquilibration<3>::compute(const EquilibrationInput<3> &input,
+                                     const LA::Vector &admissible_displacement,
+                                     Vector<double>   &error_squared,
+                                     Vector<double>   &sum_squared);
 } // namespace Signorini
 
 #endif

@@ -119,6 +119,16 @@ namespace Signorini
     /// See condition_defect().
     double max_condition_defect = 0.;
   };
+
+  /// The message with which the reconstruction chosen as @p name refuses a
+  /// dimension it is not written for.
+  inline std::string
+  reconstruction_is_2d_only(const std::string &name)
+  {
+    return "Error estimator/Stress reconstruction = " + name +
+           " is implemented in 2D only (triangles); set Error "
+           "estimator/Enable = false to compute without the estimator";
+  }
 } // namespace Signorini
 
 #endif

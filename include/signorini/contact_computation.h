@@ -1,0 +1,226 @@
+#ifndef signorini_contact_computation_h
+#define signorini_contact_computation_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/vector.h>
+
+#include <signorini/boundary_conditions.h>
+#include <signorini/contact/condition.h>
+#include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/rigid_motions.h>
+#include <signorini/contact/solution_checks.h>
+#include <signorini/contact/solver.h>
+#include <signorini/linear_algebra.h>
+#include <signorini/linear_solver.h>
+#include <signorini/material.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * The finite element computation of the Signorini problem on one mesh
+   * (doc/theory.md sections 1-2): P1 displacements, the Dirichlet and
+   * hanging-node constraints, the stiffness matrix and the load, and the
+   * contact problem solved by the chosen condition and solver, with the
+   * solution checks that decide whether it succeeded (section 6). It owns
+   * the parts of the model (material, boundary data, contact boundary,
+   * contact condition and solver, linear solver), which declare and parse
+   * their own parameters; the mesh belongs to the caller. The application
+   * computes on a sequence of meshes with one object; a reference solution
+   * has its own.
+   */
+  template <int dim>
+  class ContactComputation
+  {
+  public:
+    /// Where each contact node was and whether it was in contact: what a
+    /// computation on another mesh starts its active set from.
+    using ContactState = std::vector<std::pair<Point<dim>, bool>>;
+
+    /// What the last contact solve found.
+    struct Summary
+    {
+      typename ContactSolver<dim>::Report report;
+      SolutionChecks                      checks;
+      unsigned int                        n_active      = 0;
+      double                              energy        = 0.;
+      double                              contact_force = 0.;
+      double                              setup_seconds = 0.;
+      double                              solve_seconds = 0.;
+    };
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Parse the parts of the model; throws InputError for inconsistent
+    /// input. Sections of @p timer time the steps.
+    ContactComputation(ParameterHandler &prm, TimerOutput &timer);
+
+    /// DoFs, constraints, contact boundary and matrices on @p mesh (which
+    /// must outlive the computation's use of it). Checks that every boundary
+    /// id named in the input exists and that the data are finite on the
+    /// mesh (also @p exact_solution if given).
+    void
+    setup(const Triangulation<dim> &mesh,
+          const Function<dim>      *exact_solution = nullptr);
+
+    /// K, K condensed with the constraints, and F; refuses loads and
+    /// prescribed displacements whose products overflow.
+    void
+    assemble();
+
+    /// The algebraic contact problem of the current mesh (after assembly).
+    DiscreteContactProblem<dim>
+    contact_problem();
+
+    /// Solve the contact problem, starting the active set from the state of
+    /// the previous solve (or from set_initial_contact_state()) if the
+    /// option is on, and check the solution: converged() says whether both
+    /// the solver and the checks accept it.
+    void
+    solve();
+
+    /// Start the next solve from @p state (a computation on another mesh).
+    void
+    set_initial_contact_state(const ContactState &state);
+
+    /// The contact state of the last solve.
+    const ContactState &
+    contact_state() const;
+
+    /// Whether the last solve converged and passed the checks.
+    bool
+    converged() const;
+
+    /// Why the last solve failed (solver or solution checks), if it did.
+    const std::string &
+    failure() const;
+
+    const Summary &
+    summary() const;
+
+    /// The last contact and first separated nodes of GC (multiplier nodes on
+    /// both ends of a contact edge with different states).
+    std::vector<unsigned int>
+    contact_transition_vertices() const;
+
+    const FESystem<dim> &
+    finite_element() const;
+
+    const Mapping<dim> &
+    mapping() const;
+
+    const DoFHandler<dim> &
+    dof_handler() const;
+
+    const IndexSet &
+    locally_relevant_dofs() const;
+
+    /// The unconstrained stiffness matrix: a(u, v) = u^T K v.
+    const LA::SparseMatrix &
+    stiffness_matrix() const;
+
+    /// u_h (owned entries)
+    const LA::Vector &
+    displacement() const;
+
+    /// y of the last solve (see ContactCondition)
+    const Vector<double> &
+    dual() const;
+
+    /// Active rows of the last solve (y_i > 0 beyond round-off).
+    const std::vector<bool> &
+    active_set() const;
+
+    const LinearElasticMaterial<dim> &
+    material() const;
+
+    const BoundaryConditions<dim> &
+    boundary_conditions() const;
+
+    const ContactBoundary<dim> &
+    contact_boundary() const;
+
+    const ContactCondition<dim> &
+    condition() const;
+
+    const ContactSolver<dim> &
+    solver() const;
+
+    const ElasticitySolver &
+    linear_solver() const;
+
+  private:
+    /// The active set of the previous solve carried to the current contact
+    /// nodes (empty if there is none or the option is off).
+    std::vector<bool>
+    initial_active_set_guess() const;
+
+    /// Throws InputError if a boundary id of the input is not in @p mesh.
+    void
+    check_boundary_ids(const Triangulation<dim> &mesh) const;
+
+    /// Decide converged() from the solver's report and the checks.
+    void
+    judge_solution();
+
+    TimerOutput &timer;
+    MPI_Comm     mpi_communicator;
+
+    // The model
+    LinearElasticMaterial<dim>             material_law;
+    BoundaryConditions<dim>                boundary_data;
+    ContactBoundary<dim>                   gamma_c;
+    std::unique_ptr<ContactCondition<dim>> contact_condition;
+    std::unique_ptr<ContactSolver<dim>>    contact_solver;
+    ElasticitySolver                       elasticity_solver;
+    bool                                   guess_from_previous_cycle = true;
+    /// Largest relative solution check a converged computation may have.
+    double check_tolerance = 1e-6;
+
+    // Discretisation
+    const FESystem<dim>  fe;
+    const MappingFE<dim> mapping_fe;
+    DoFHandler<dim>      dofs;
+    IndexSet             locally_owned_dofs;
+    IndexSet             relevant_dofs;
+    // Constraints: hanging nodes, Dirichlet data, and both merged (with and
+    // without the Dirichlet values)
+    AffineConstraints<double> hanging_node_constraints;
+    AffineConstraints<double> dirichlet_constraints;
+    AffineConstraints<double> constraints;
+    AffineConstraints<double> homogeneous_constraints;
+    // The rigid motions the Dirichlet data leave to the contact
+    RigidMotions<dim> rigid_motions;
+
+    // Linear algebra and results
+    LA::SparseMatrix  stiffness;
+    LA::SparseMatrix  condensed_stiffness;
+    LA::Vector        load;
+    LA::Vector        solution;
+    Vector<double>    dual_solution;
+    std::vector<bool> active_rows; // of the last solve, per multiplier node
+    ContactState      last_contact_state;
+    Summary           last_summary;
+    bool              last_solve_converged = true;
+    std::string       solve_failure;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,161 @@
+#ifndef signorini_results_output_h
+#define signorini_results_output_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/adaptation/size_predictor.h>
+#include <signorini/contact_computation.h>
+#include <signorini/csv_table.h>
+#include <signorini/estimator/constitutive_relation_error.h>
+#include <signorini/exact_solution.h>
+#include <signorini/output_directory.h>
+#include <signorini/reference_solution.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * What a run reports, in one place: the screen (rank 0), the statistics
+   * table (one row per computation, statistics.csv), the contact table of
+   * every computation (contact-CC.csv) and the ParaView files
+   * (solution-CC.vtu, or a piece per rank and a .pvtu record, and
+   * solution.pvd), all in the output directory. Each step of a computation
+   * reports through one member, which prints its screen lines and adds its
+   * statistics columns; write() closes the row and writes the files.
+   *
+   * The statistics are a CsvTable rather than deal.II's TableHandler: the
+   * comparison with a reference solved after the computations fills in the
+   * rows of earlier computations, and the file is CSV for spreadsheets and
+   * scripts.
+   */
+  template <int dim>
+  class ResultsOutput
+  {
+  public:
+    /// Output directory and section Output.
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    ResultsOutput();
+
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// Create the output directory (checked writable; call once the input
+    /// is known to be valid).
+    void
+    initialize();
+
+    /// Delete the files of the previous run there and write the parameters
+    /// used (parameters.prm).
+    void
+    start_run(const ParameterHandler &prm);
+
+    /// The screen: std::cout on rank 0.
+    ConditionalOStream &
+    screen();
+
+    /// Output/Print timing
+    bool
+    print_timing() const;
+
+    const CsvTable &
+    statistics() const;
+
+    /// The mesh of computation @p cycle: cells, DoFs, nodes of GC; for an
+    /// adapted mesh (@p adapted) also its prediction and quality.
+    void
+    mesh(const unsigned int             cycle,
+         const AdaptiveMesh<dim>       &adaptive_mesh,
+         const ContactComputation<dim> &computation,
+         const double                   predicted_cells,
+         const bool                     adapted);
+
+    /// The contact solve on screen: iterations, active nodes, energy,
+    /// contact force and the solution checks (also for a reference).
+    void
+    print_contact_solve(const ContactComputation<dim> &computation);
+
+    /// The same, and its statistics columns.
+    void
+    contact_solve(const ContactComputation<dim> &computation);
+
+    /// The error in constitutive relation of the computation.
+    void
+    error_estimate(
+      const typename ConstitutiveRelationError<dim>::Result &estimate,
+      const double                                           seconds);
+
+    /// The size predictor's prediction for the next mesh.
+    void
+    size_prediction(const std::string               &predictor,
+                    const SizePredictor::Prediction &prediction);
+
+    /// The error against the exact solution.
+    void
+    exact_error(const typename ExactSolution<dim>::Error &error);
+
+    /// The computation against a reference of @p reference_dofs DoFs that
+    /// may not be finer than its mesh everywhere (@p underestimated).
+    void
+    reference_comparison(
+      const typename ReferenceSolution<dim>::Comparison &comparison,
+      const types::global_dof_index                      reference_dofs,
+      const bool                                         underestimated,
+      const bool                                         with_estimate);
+
+    /// Every computation against a reference solved after them: fills in
+    /// their rows and rewrites statistics.csv.
+    void
+    final_reference_comparison(
+      const std::vector<typename ReferenceSolution<dim>::Comparison>
+                &comparisons,
+      const bool with_estimate);
+
+    /// One line of progress (a heading, the target reached or not).
+    void
+    message(const std::string &text);
+
+    /// Close the statistics row of computation @p cycle and write its
+    /// files: statistics.csv, contact-CC.csv and, if enabled, the VTU with
+    /// the displacement, stresses, contact fields and @p eps_E (if given).
+    void
+    write(const unsigned int             cycle,
+          const ContactComputation<dim> &computation,
+          const Vector<double>          *eps_E);
+
+  private:
+    void
+    write_statistics();
+
+    void
+    write_contact_table(const unsigned int             cycle,
+                        const ContactComputation<dim> &computation);
+
+    void
+    write_vtu(const unsigned int             cycle,
+              const ContactComputation<dim> &computation,
+              const Vector<double>          *eps_E);
+
+    MPI_Comm           mpi_communicator;
+    ConditionalOStream pcout;
+    std::string        directory;
+    bool               with_vtu    = true;
+    bool               with_timing = true;
+    OutputDirectory    output_files;
+    CsvTable           statistics_table;
+    /// (cycle, file) of the VTU files written, for solution.pvd
+    std::vector<std::pair<double, std::string>> vtu_files;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,650 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <signorini/contact_computation.h>
+#include <signorini/input_error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  ContactComputation<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    LinearElasticMaterial<dim>::declare_parameters(prm);
+    BoundaryConditions<dim>::declare_parameters(prm);
+    ContactBoundary<dim>::declare_parameters(prm);
+    ContactCondition<dim>::registry().declare_parameters(prm);
+    ContactSolver<dim>::registry().declare_parameters(prm);
+    ElasticitySolver::declare_parameters(prm);
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Initial active set from previous cycle",
+                      "true",
+                      Patterns::Bool(),
+                      "Start the active set method of a cycle from the "
+                      "active set of the previous (coarser) cycle.");
+    prm.declare_entry("Check tolerance",
+                      "1e-6",
+                      Patterns::Double(0., 1.),
+                      "A computation whose relative solution checks "
+                      "(feasibility, multiplier sign, complementarity, "
+                      "residual, resultant) exceed this has failed (exit code "
+                      "2), whatever its solver reports.");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  ContactComputation<dim>::ContactComputation(ParameterHandler &prm,
+                                              TimerOutput      &timer)
+    : timer(timer)
+    , mpi_communicator(MPI_COMM_WORLD)
+    , fe(FE_SimplexP<dim>(1), dim)
+    , mapping_fe(FE_SimplexP<dim>(1))
+  {
+    material_law.parse_parameters(prm);
+    boundary_data.parse_parameters(prm);
+    gamma_c.parse_parameters(prm);
+    prm.enter_subsection("Contact");
+    guess_from_previous_cycle =
+      prm.get_bool("Initial active set from previous cycle");
+    check_tolerance = prm.get_double("Check tolerance");
+    prm.leave_subsection();
+    contact_condition = ContactCondition<dim>::registry().create(prm);
+    contact_solver    = ContactSolver<dim>::registry().create(prm);
+    elasticity_solver.parse_parameters(prm);
+
+    for (const auto id : boundary_data.used_boundary_ids())
+      if (gamma_c.boundary_ids().count(id) != 0)
+        throw InputError("boundary id " + std::to_string(id) +
+                         " is both a contact id and a Dirichlet/traction id");
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::check_boundary_ids(
+    const Triangulation<dim> &mesh) const
+  {
+    std::set<types::boundary_id> present;
+    for (const auto &face : mesh.active_face_iterators())
+      if (face->at_boundary())
+        present.insert(face->boundary_id());
+    const auto check = [&](const std::set<types::boundary_id> &ids,
+                           const std::string                  &where) {
+      for (const auto id : ids)
+        if (present.count(id) == 0)
+          throw InputError(where + ": boundary id " + std::to_string(id) +
+                           " does not exist in the mesh");
+    };
+    for (const auto &part : boundary_data.dirichlet)
+      check(part.ids, "Boundary conditions/Dirichlet");
+    for (const auto &part : boundary_data.tractions)
+      check(part.ids, "Boundary conditions/Traction");
+    check(gamma_c.boundary_ids(), "Contact/Boundary ids");
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::setup(const Triangulation<dim> &mesh,
+                                 const Function<dim>      *exact_solution)
+  {
+    TimerOutput::Scope t(timer, "setup");
+    check_boundary_ids(mesh);
+    boundary_data.check_finite(mapping_fe, mesh, exact_solution);
+    dofs.reinit(mesh);
+    dofs.distribute_dofs(fe);
+    locally_owned_dofs = dofs.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dofs, relevant_dofs);
+
+    hanging_node_constraints.clear();
+    DoFTools::make_hanging_node_constraints(dofs, hanging_node_constraints);
+    hanging_node_constraints.close();
+
+    dirichlet_constraints.clear();
+    AffineConstraints<double> homogeneous_dirichlet;
+    for (const auto &part : boundary_data.dirichlet)
+      for (const auto id : part.ids)
+        {
+          VectorTools::interpolate_boundary_values(mapping_fe,
+                                                   dofs,
+                                                   id,
+                                                   *part.displacement,
+                                                   dirichlet_constraints,
+                                                   part.mask);
+          VectorTools::interpolate_boundary_values(mapping_fe,
+                                                   dofs,
+                                                   id,
+                                                   Functions::ZeroFunction<dim>(
+                                                     dim),
+                                                   homogeneous_dirichlet,
+                                                   part.mask);
+        }
+    dirichlet_constraints.close();
+    homogeneous_dirichlet.close();
+
+    constraints.clear();
+    constraints.merge(hanging_node_constraints);
+    constraints.merge(dirichlet_constraints);
+    constraints.close();
+    homogeneous_constraints.clear();
+    homogeneous_constraints.merge(hanging_node_constraints);
+    homogeneous_constraints.merge(homogeneous_dirichlet);
+    homogeneous_constraints.close();
+
+    rigid_motions.reinit(dofs, dirichlet_constraints, hanging_node_constraints);
+    gamma_c.reinit(mapping_fe,
+                   dofs,
+                   dirichlet_constraints,
+                   hanging_node_constraints);
+    contact_condition->reinit(gamma_c);
+
+    // rows of the owned cells' dofs, sent to their owners
+    DynamicSparsityPattern dsp(relevant_dofs);
+    DoFTools::make_sparsity_pattern(dofs,
+                                    dsp,
+                                    constraints,
+                                    /*keep_constrained_dofs=*/true);
+    SparsityTools::distribute_sparsity_pattern(dsp,
+                                               locally_owned_dofs,
+                                               mpi_communicator,
+                                               relevant_dofs);
+    const IndexSet &owned = locally_owned_dofs;
+    stiffness.reinit(owned, owned, dsp, mpi_communicator);
+    condensed_stiffness.reinit(owned, owned, dsp, mpi_communicator);
+    load.reinit(owned, mpi_communicator);
+    solution.reinit(owned, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::assemble()
+  {
+    TimerOutput::Scope               t(timer, "assembly");
+    const QGaussSimplex<dim>         quadrature(3);
+    const QGaussSimplex<dim - 1>     face_quadrature(3);
+    FEValues<dim>                    fe_values(mapping_fe,
+                            fe,
+                            quadrature,
+                            update_values | update_gradients |
+                              update_quadrature_points | update_JxW_values);
+    FEFaceValues<dim>                fe_face_values(mapping_fe,
+                                     fe,
+                                     face_quadrature,
+                                     update_values | update_quadrature_points |
+                                       update_JxW_values);
+    const FEValuesExtractors::Vector displacement(0);
+    const unsigned int               dofs_per_cell = fe.n_dofs_per_cell();
+    FullMatrix<double>               cell_matrix(dofs_per_cell, dofs_per_cell);
+    Vector<double>                   cell_rhs(dofs_per_cell);
+    std::vector<types::global_dof_index> dof_indices(dofs_per_cell);
+    std::vector<SymmetricTensor<2, dim>> eps(dofs_per_cell);
+    std::vector<Vector<double>>          force_values(quadrature.size(),
+                                             Vector<double>(dim));
+    std::vector<Vector<double>>          traction_values(face_quadrature.size(),
+                                                Vector<double>(dim));
+
+    stiffness           = 0.;
+    condensed_stiffness = 0.;
+    load                = 0.;
+    for (const auto &cell : dofs.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        fe_values.reinit(cell);
+        cell_matrix = 0.;
+        cell_rhs    = 0.;
+        boundary_data.body_force->vector_value_list(
+          fe_values.get_quadrature_points(), force_values);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              eps[i] = fe_values[displacement].symmetric_gradient(i, q);
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              {
+                const SymmetricTensor<2, dim> sigma_i =
+                  material_law.stress(eps[i]);
+                for (unsigned int j = 0; j < dofs_per_cell; ++j)
+                  cell_matrix(i, j) += (sigma_i * eps[j]) * fe_values.JxW(q);
+                const unsigned int c = fe.system_to_component_index(i).first;
+                cell_rhs(i) += force_values[q][c] *
+                               fe_values.shape_value(i, q) * fe_values.JxW(q);
+              }
+          }
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto &part : boundary_data.tractions)
+              if (part.ids.count(cell->face(f)->boundary_id()) != 0)
+                {
+                  fe_face_values.reinit(cell, f);
+                  part.traction->vector_value_list(
+                    fe_face_values.get_quadrature_points(), traction_values);
+                  for (const unsigned int q :
+                       fe_face_values.quadrature_point_indices())
+                    for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                      {
+                        const unsigned int c =
+                          fe.system_to_component_index(i).first;
+                        cell_rhs(i) += traction_values[q][c] *
+                                       fe_face_values.shape_value(i, q) *
+                                       fe_face_values.JxW(q);
+                      }
+                }
+        cell->get_dof_indices(dof_indices);
+        stiffness.add(dof_indices, cell_matrix);
+        load.add(dof_indices, cell_rhs);
+        constraints.distribute_local_to_global(cell_matrix,
+                                               dof_indices,
+                                               condensed_stiffness);
+      }
+    stiffness.compress(VectorOperation::add);
+    condensed_stiffness.compress(VectorOperation::add);
+    load.compress(VectorOperation::add);
+
+    // Finite data can still overflow in the products of the solve (|F|^2,
+    // K times the prescribed displacements): refuse them as input.
+    if (!std::isfinite(load.l2_norm()))
+      throw InputError("Boundary conditions: the loads (tractions, body "
+                       "force) are too large to compute with (their norm "
+                       "overflows); change the units");
+    LA::Vector prescribed(load), reaction(load);
+    prescribed = 0.;
+    for (const auto i : locally_owned_dofs)
+      if (dirichlet_constraints.is_inhomogeneously_constrained(i))
+        prescribed[i] = dirichlet_constraints.get_inhomogeneity(i);
+    prescribed.compress(VectorOperation::insert);
+    stiffness.vmult(reaction, prescribed);
+    if (!std::isfinite(reaction.l2_norm()))
+      throw InputError("Boundary conditions/Dirichlet: the prescribed "
+                       "displacements are too large to compute with (the "
+                       "forces they need overflow); change the units");
+  }
+
+
+
+  template <int dim>
+  DiscreteContactProblem<dim>
+  ContactComputation<dim>::contact_problem()
+  {
+    return DiscreteContactProblem<dim>(stiffness,
+                                       load,
+                                       constraints,
+                                       homogeneous_constraints,
+                                       hanging_node_constraints,
+                                       gamma_c,
+                                       *contact_condition,
+                                       rigid_motions,
+                                       elasticity_solver);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::solve()
+  {
+    Timer setup_timer;
+    {
+      TimerOutput::Scope             t(timer, "linear solver setup");
+      std::vector<std::vector<bool>> constant_modes;
+      DoFTools::extract_constant_modes(dofs,
+                                       ComponentMask(dim, true),
+                                       constant_modes);
+      elasticity_solver.initialize(stiffness,
+                                   condensed_stiffness,
+                                   constant_modes,
+                                   rigid_motions.support_dofs());
+    }
+    setup_timer.stop();
+
+    const DiscreteContactProblem<dim> problem = contact_problem();
+    problem.check_rigid_motions();
+    Timer solve_timer;
+    {
+      TimerOutput::Scope t(timer, "contact solve");
+      solution            = 0.;
+      last_summary.report = contact_solver->solve(problem,
+                                                  solution,
+                                                  dual_solution,
+                                                  initial_active_set_guess());
+    }
+    solve_timer.stop();
+
+    // A row is active when its multiplier is positive beyond round-off (the
+    // same rule for both solvers, so that their active sets compare).
+    const double threshold = 1e-8 * max_norm(dual_solution);
+    active_rows.assign(dual_solution.size(), false);
+    last_summary.n_active = 0;
+    last_contact_state.clear();
+    for (unsigned int i = 0; i < dual_solution.size(); ++i)
+      {
+        active_rows[i] = dual_solution[i] > threshold;
+        last_summary.n_active += active_rows[i] ? 1 : 0;
+        last_contact_state.emplace_back(
+          gamma_c.node(gamma_c.multiplier_nodes()[i]).position, active_rows[i]);
+      }
+    last_summary.contact_force = 0.;
+    for (const double f : contact_condition->nodal_forces(dual_solution))
+      last_summary.contact_force += f;
+
+    // (P1: the support point of a dof is its vertex; every rank sees all
+    // cells)
+    std::vector<Point<dim>>   support_points(dofs.n_dofs());
+    std::vector<unsigned int> dof_component(dofs.n_dofs());
+    {
+      std::vector<types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : dofs.active_cell_iterators())
+        {
+          cell->get_dof_indices(cell_dofs);
+          for (unsigned int i = 0; i < cell_dofs.size(); ++i)
+            {
+              const auto [component, vertex] = fe.system_to_component_index(i);
+              dof_component[cell_dofs[i]]    = component;
+              support_points[cell_dofs[i]]   = cell->vertex(vertex);
+            }
+        }
+    }
+    last_summary.checks        = check_solution(problem,
+                                         solution,
+                                         dual_solution,
+                                         dirichlet_constraints,
+                                         support_points,
+                                         dof_component);
+    last_summary.energy        = problem.energy(solution);
+    last_summary.setup_seconds = setup_timer.wall_time();
+    last_summary.solve_seconds = solve_timer.wall_time();
+    judge_solution();
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::judge_solution()
+  {
+    // the solver's word is not enough: the checks decide
+    const auto &report                    = last_summary.report;
+    const auto [worst_check, worst_value] = last_summary.checks.largest();
+    last_solve_converged = report.converged && worst_value <= check_tolerance;
+    const auto brief     = [](const double x) {
+      std::ostringstream text;
+      text << std::setprecision(3) << x;
+      return text.str();
+    };
+    solve_failure.clear();
+    if (!report.converged)
+      solve_failure = "the " + contact_solver->name() +
+                      " solver did not converge (KKT residual " +
+                      brief(report.residual) + ")";
+    else if (!last_solve_converged)
+      solve_failure = "the solution checks fail: " + worst_check + " " +
+                      brief(worst_value) +
+                      " > Contact/Check tolerance = " + brief(check_tolerance);
+  }
+
+
+
+  template <int dim>
+  std::vector<bool>
+  ContactComputation<dim>::initial_active_set_guess() const
+  {
+    const ContactState &previous = last_contact_state;
+    if (!guess_from_previous_cycle || previous.empty())
+      return {};
+    // A node of the new mesh is either a node of the previous one (keep its
+    // state) or lies between two of them (active if both were).
+    const auto       &nodes = gamma_c.multiplier_nodes();
+    std::vector<bool> guess(nodes.size(), false);
+    Point<dim>        lower = previous[0].first, upper = lower;
+    for (const auto &state : previous)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower[d] = std::min(lower[d], state.first[d]);
+          upper[d] = std::max(upper[d], state.first[d]);
+        }
+    const double tolerance = 1e-10 * lower.distance(upper);
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      {
+        const Point<dim> &x = gamma_c.node(nodes[i]).position;
+        std::vector<std::pair<double, bool>> by_distance;
+        for (const auto &[position, active] : previous)
+          by_distance.emplace_back(x.distance(position), active);
+        const unsigned int n_nearest =
+          std::min<std::size_t>(2, by_distance.size());
+        std::partial_sort(by_distance.begin(),
+                          by_distance.begin() + n_nearest,
+                          by_distance.end());
+        guess[i] =
+          (by_distance[0].first < tolerance) ?
+            by_distance[0].second :
+            (by_distance[0].second && by_distance[n_nearest - 1].second);
+      }
+    return guess;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::set_initial_contact_state(const ContactState &state)
+  {
+    last_contact_state = state;
+  }
+
+
+
+  template <int dim>
+  std::vector<unsigned int>
+  ContactComputation<dim>::contact_transition_vertices() const
+  {
+    // state of every node of GC: -1 no multiplier, 0 separated, 1 active
+    std::vector<int> state(gamma_c.n_nodes(), -1);
+    const auto      &multiplier_nodes = gamma_c.multiplier_nodes();
+    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+      state[multiplier_nodes[i]] = active_rows[i] ? 1 : 0;
+    std::vector<unsigned int> vertices;
+    for (const auto &cell : dofs.get_triangulation().active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() &&
+            gamma_c.boundary_ids().count(face->boundary_id()) != 0)
+          {
+            // a face with nodes in both states: all its vertices
+            bool contact = false, separated = false;
+            for (const unsigned int v : face->vertex_indices())
+              {
+                const int s = state[gamma_c.node_index(face->vertex_index(v))];
+                contact |= (s == 1);
+                separated |= (s == 0);
+              }
+            if (contact && separated)
+              for (const unsigned int v : face->vertex_indices())
+                vertices.push_back(face->vertex_index(v));
+          }
+    return vertices;
+  }
+
+
+
+  template <int dim>
+  const typename ContactComputation<dim>::ContactState &
+  ContactComputation<dim>::contact_state() const
+  {
+    return last_contact_state;
+  }
+
+
+
+  template <int dim>
+  bool
+  ContactComputation<dim>::converged() const
+  {
+    return last_solve_converged;
+  }
+
+
+
+  template <int dim>
+  const std::string &
+  ContactComputation<dim>::failure() const
+  {
+    return solve_failure;
+  }
+
+
+
+  template <int dim>
+  const typename ContactComputation<dim>::Summary &
+  ContactComputation<dim>::summary() const
+  {
+    return last_summary;
+  }
+
+
+
+  template <int dim>
+  const FESystem<dim> &
+  ContactComputation<dim>::finite_element() const
+  {
+    return fe;
+  }
+
+
+
+  template <int dim>
+  const Mapping<dim> &
+  ContactComputation<dim>::mapping() const
+  {
+    return mapping_fe;
+  }
+
+
+
+  template <int dim>
+  const DoFHandler<dim> &
+  ContactComputation<dim>::dof_handler() const
+  {
+    return dofs;
+  }
+
+
+
+  template <int dim>
+  const IndexSet &
+  ContactComputation<dim>::locally_relevant_dofs() const
+  {
+    return relevant_dofs;
+  }
+
+
+
+  template <int dim>
+  const LA::SparseMatrix &
+  ContactComputation<dim>::stiffness_matrix() const
+  {
+    return stiffness;
+  }
+
+
+
+  template <int dim>
+  const LA::Vector &
+  ContactComputation<dim>::displacement() const
+  {
+    return solution;
+  }
+
+
+
+  template <int dim>
+  const Vector<double> &
+  ContactComputation<dim>::dual() const
+  {
+    return dual_solution;
+  }
+
+
+
+  template <int dim>
+  const std::vector<bool> &
+  ContactComputation<dim>::active_set() const
+  {
+    return active_rows;
+  }
+
+
+
+  template <int dim>
+  const LinearElasticMaterial<dim> &
+  ContactComputation<dim>::material() const
+  {
+    return material_law;
+  }
+
+
+
+  template <int dim>
+  const BoundaryConditions<dim> &
+  ContactComputation<dim>::boundary_conditions() const
+  {
+    return boundary_data;
+  }
+
+
+
+  template <int dim>
+  const ContactBoundary<dim> &
+  ContactComputation<dim>::contact_boundary() const
+  {
+    return gamma_c;
+  }
+
+
+
+  template <int dim>
+  const ContactCondition<dim> &
+  ContactComputation<dim>::condition() const
+  {
+    return *contact_condition;
+  }
+
+
+
+  template <int dim>
+  const ContactSolver<dim> &
+  ContactComputation<dim>::solver() const
+  {
+    return *contact_solver;
+  }
+
+
+
+  template <int dim>
+  const ElasticitySolver &
+  ContactComputation<dim>::linear_solver() const
+  {
+    return elasticity_solver;
+  }
+
+  template class ContactComputation<2>;
+  template class ContactComputation<3>;
+} // namespace Signorini

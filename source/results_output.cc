@@ -1,0 +1,536 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <signorini/adaptation/mesh_quality.h>
+#include <signorini/cell_data_postprocessor.h>
+#include <signorini/results_output.h>
+#include <signorini/stress_postprocessor.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  ResultsOutput<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Output directory",
+                      "output",
+                      Patterns::DirectoryName(),
+                      "Where the VTU/PVD files, the CSV tables and the "
+                      "parameters used are written (created if needed). A "
+                      "run first deletes the files of the previous run there, "
+                      "as listed in .signorini-manifest, and nothing else.");
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Write vtu",
+                        "true",
+                        Patterns::Bool(),
+                        "Write solution-CC.vtu and solution.pvd for ParaView.");
+      prm.declare_entry("Print timing",
+                        "true",
+                        Patterns::Bool(),
+                        "Print the TimerOutput summary and the solve time on "
+                        "screen (off in regression tests: times vary).");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  ResultsOutput<dim>::ResultsOutput()
+    : mpi_communicator(MPI_COMM_WORLD)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+  {}
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    directory = prm.get("Output directory");
+    prm.enter_subsection("Output");
+    with_vtu    = prm.get_bool("Write vtu");
+    with_timing = prm.get_bool("Print timing");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::initialize()
+  {
+    output_files.initialize(directory, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::start_run(const ParameterHandler &prm)
+  {
+    // the files of the previous run go first: the directory holds one run
+    if (pcout.is_active())
+      {
+        output_files.start_run();
+        output_files.write("parameters.prm", [&](std::ostream &out) {
+          prm.print_parameters(out, ParameterHandler::PRM);
+        });
+      }
+    MPI_Barrier(mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  ConditionalOStream &
+  ResultsOutput<dim>::screen()
+  {
+    return pcout;
+  }
+
+
+
+  template <int dim>
+  bool
+  ResultsOutput<dim>::print_timing() const
+  {
+    return with_timing;
+  }
+
+
+
+  template <int dim>
+  const CsvTable &
+  ResultsOutput<dim>::statistics() const
+  {
+    return statistics_table;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::message(const std::string &text)
+  {
+    pcout << text << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::mesh(const unsigned int             cycle,
+                           const AdaptiveMesh<dim>       &adaptive_mesh,
+                           const ContactComputation<dim> &computation,
+                           const double                   predicted_cells,
+                           const bool                     adapted)
+  {
+    const Triangulation<dim> &triangulation =
+      computation.dof_handler().get_triangulation();
+    const double min_angle = minimum_angle(triangulation);
+    pcout << "Cycle " << cycle << ": " << triangulation.n_active_cells()
+          << " cells, " << computation.dof_handler().n_dofs() << " DoFs, "
+          << computation.contact_boundary().n_nodes() << " nodes on GC ("
+          << computation.condition().n_constraints() << " with a multiplier)"
+          << std::endl;
+    if (adapted)
+      {
+        pcout << "   mesh: " << triangulation.n_active_cells() << " cells";
+        if (cycle > 0)
+          pcout << " (predicted N* = "
+                << static_cast<unsigned long>(std::round(predicted_cells))
+                << ")";
+        pcout << ", " << triangulation.n_used_vertices() << " nodes, "
+              << adaptive_mesh.n_green_cells() << " green cells, minimum angle "
+              << std::setprecision(4) << min_angle << " degrees"
+              << std::setprecision(6) << std::endl;
+      }
+    statistics_table.add_value("cycle", cycle);
+    statistics_table.add_value("cells", triangulation.n_active_cells());
+    statistics_table.add_value("dofs", computation.dof_handler().n_dofs());
+    statistics_table.add_value("nodes", triangulation.n_used_vertices());
+    statistics_table.add_value("predicted_cells", predicted_cells);
+    statistics_table.add_value("green_cells", adaptive_mesh.n_green_cells());
+    statistics_table.add_value("min_angle", min_angle);
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::print_contact_solve(
+    const ContactComputation<dim> &computation)
+  {
+    const auto &summary = computation.summary();
+    const auto &report  = summary.report;
+    const auto &checks  = summary.checks;
+    pcout << "   " << computation.condition().name() << " condition, "
+          << computation.solver().name() << ": " << report.iterations
+          << " iterations, " << report.linear_solves << " linear solves ("
+          << report.linear_iterations << " CG iterations, "
+          << computation.linear_solver().method() << ")" << std::endl
+          << "   active nodes " << summary.n_active << " of "
+          << computation.condition().n_constraints() << ", energy "
+          << std::setprecision(10) << summary.energy << ", contact force "
+          << std::setprecision(6) << summary.contact_force << std::endl
+          << std::setprecision(2) << std::scientific
+          << "   checks: feasibility " << checks.feasibility
+          << ", multiplier sign " << checks.multiplier_sign
+          << ", complementarity " << checks.complementarity << ", residual "
+          << checks.residual << ", resultant " << checks.resultant
+          << std::defaultfloat << std::setprecision(6) << std::endl;
+    if (with_timing)
+      pcout << "   contact solve " << summary.solve_seconds << " s"
+            << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::contact_solve(const ContactComputation<dim> &computation)
+  {
+    print_contact_solve(computation);
+    const auto &summary = computation.summary();
+    const auto &report  = summary.report;
+    CsvTable   &table   = statistics_table;
+    table.add_value("contact_nodes", computation.condition().n_constraints());
+    table.add_value("active_nodes", summary.n_active);
+    table.add_value("condition", computation.condition().name());
+    table.add_value("solver", computation.solver().name());
+    table.add_value("linear_solver", computation.linear_solver().method());
+    table.add_value("iterations", report.iterations);
+    table.add_value("linear_solves", report.linear_solves);
+    table.add_value("cg_iterations", report.linear_iterations);
+    table.add_value("converged", computation.converged() ? 1u : 0u);
+    table.add_value("kkt_residual", report.residual);
+    table.add_value("energy", summary.energy);
+    table.add_value("contact_force", summary.contact_force);
+    table.add_value("setup_seconds", summary.setup_seconds);
+    table.add_value("solve_seconds", summary.solve_seconds);
+    table.add_value("feasibility", summary.checks.feasibility);
+    table.add_value("multiplier_sign", summary.checks.multiplier_sign);
+    table.add_value("complementarity", summary.checks.complementarity);
+    table.add_value("residual", summary.checks.residual);
+    table.add_value("resultant", summary.checks.resultant);
+    table.add_value("contact_cells",
+                    computation.contact_boundary().n_contact_cells());
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::error_estimate(
+    const typename ConstitutiveRelationError<dim>::Result &estimate,
+    const double                                           seconds)
+  {
+    pcout << "   error in constitutive relation: eps = " << std::setprecision(4)
+          << 100. * estimate.eps << " % (contact term "
+          << 100. * estimate.eps_contact << " % of e^2)" << std::setprecision(6)
+          << std::endl;
+    statistics_table.add_value("e", std::sqrt(estimate.e_squared));
+    statistics_table.add_value("eps", estimate.eps);
+    statistics_table.add_value("eps_contact", estimate.eps_contact);
+    statistics_table.add_value("estimate_seconds", seconds);
+    statistics_table.add_value("equilibrium_defect",
+                               estimate.equilibrium_defect);
+    statistics_table.add_value("prolongation_defect",
+                               estimate.condition_defect);
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::size_prediction(
+    const std::string               &predictor,
+    const SizePredictor::Prediction &prediction)
+  {
+    pcout << "   " << predictor << " prediction: N* = "
+          << static_cast<unsigned long>(std::round(prediction.predicted_cells))
+          << " elements for eps* = " << std::setprecision(4)
+          << 100. * prediction.predicted_error << " %" << std::setprecision(6)
+          << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::exact_error(
+    const typename ExactSolution<dim>::Error &error)
+  {
+    pcout << "   energy-norm error " << error.energy_error;
+    statistics_table.add_value("energy_error", error.energy_error);
+    // (undefined for a zero exact solution: left empty)
+    if (error.relative_energy_error >= 0.)
+      {
+        pcout << " (relative " << error.relative_energy_error << ")";
+        statistics_table.add_value("relative_energy_error",
+                                   error.relative_energy_error);
+      }
+    pcout << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::reference_comparison(
+    const typename ReferenceSolution<dim>::Comparison &comparison,
+    const types::global_dof_index                      reference_dofs,
+    const bool                                         underestimated,
+    const bool                                         with_estimate)
+  {
+    statistics_table.add_value("eps_ex", comparison.eps_ex);
+    pcout << "   exact error (reference " << reference_dofs
+          << " DoFs): eps_ex = " << std::setprecision(4)
+          << 100. * comparison.eps_ex << " %";
+    if (underestimated)
+      pcout << " (the reference is not finer than this mesh everywhere: "
+               "eps_ex is underestimated; see Reference solution/Mesh)";
+    if (with_estimate)
+      {
+        statistics_table.add_value("effectivity", comparison.effectivity);
+        statistics_table.add_value("prager_synge_ratio",
+                                   comparison.prager_synge_ratio);
+        pcout << ", effectivity " << comparison.effectivity
+              << ", ||U_ref - U^|| / e = " << comparison.prager_synge_ratio;
+      }
+    pcout << std::setprecision(6) << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::final_reference_comparison(
+    const std::vector<typename ReferenceSolution<dim>::Comparison> &comparisons,
+    const bool with_estimate)
+  {
+    for (unsigned int k = 0; k < comparisons.size(); ++k)
+      {
+        const auto &comparison = comparisons[k];
+        statistics_table.set_value(k, "eps_ex", comparison.eps_ex);
+        pcout << "   computation " << k << ": eps_ex = " << std::setprecision(4)
+              << 100. * comparison.eps_ex << " %";
+        if (with_estimate)
+          {
+            statistics_table.set_value(k,
+                                       "effectivity",
+                                       comparison.effectivity);
+            statistics_table.set_value(k,
+                                       "prager_synge_ratio",
+                                       comparison.prager_synge_ratio);
+            pcout << ", effectivity " << comparison.effectivity
+                  << ", ||U_ref - U^|| / e = " << comparison.prager_synge_ratio;
+          }
+        pcout << std::setprecision(6) << std::endl;
+      }
+    write_statistics();
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::write_statistics()
+  {
+    if (pcout.is_active())
+      output_files.write("statistics.csv", [&](std::ostream &out) {
+        statistics_table.write(out);
+      });
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::write_contact_table(
+    const unsigned int             cycle,
+    const ContactComputation<dim> &computation)
+  {
+    // One row per node of GC, sorted by position.
+    const ContactBoundary<dim> &contact_boundary =
+      computation.contact_boundary();
+    const unsigned int        n = contact_boundary.n_nodes();
+    std::vector<unsigned int> order(n);
+    for (unsigned int k = 0; k < n; ++k)
+      order[k] = k;
+    std::sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) {
+      const auto &pa = contact_boundary.node(a).position;
+      const auto &pb = contact_boundary.node(b).position;
+      return std::lexicographical_compare(&pa[0],
+                                          &pa[0] + dim,
+                                          &pb[0],
+                                          &pb[0] + dim);
+    });
+    std::vector<int> row_of_node(n, -1);
+    const auto      &multiplier_nodes = contact_boundary.multiplier_nodes();
+    for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+      row_of_node[multiplier_nodes[i]] = i;
+
+    const Vector<double> &dual = computation.dual();
+    const Vector<double>  q_n =
+      contact_boundary.normal_components(computation.displacement());
+    const Vector<double> lambda = computation.condition().multiplier(dual);
+    const Vector<double> forces = computation.condition().nodal_forces(dual);
+    const std::vector<bool> &active = computation.active_set();
+    if (!pcout.is_active())
+      return;
+
+    output_files.write("contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
+                       [&](std::ostream &out) {
+                         const char *coordinates[] = {"x", "y", "z"};
+                         for (unsigned int d = 0; d < dim; ++d)
+                           out << coordinates[d] << ',';
+                         out
+                           << "multiplier_node,normal_displacement,gap,Lambda,"
+                              "nodal_force,active\n"
+                           << std::setprecision(12);
+                         for (const unsigned int k : order)
+                           {
+                             const auto &node = contact_boundary.node(k);
+                             const int   i    = row_of_node[k];
+                             for (unsigned int d = 0; d < dim; ++d)
+                               out << node.position[d] << ',';
+                             out << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
+                                 << contact_boundary.nodal_gap()[k] << ','
+                                 << (i >= 0 ? lambda[i] : 0.) << ','
+                                 << forces[k] << ','
+                                 << ((i >= 0 && active[i]) ? 1 : 0) << '\n';
+                           }
+                       });
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::write(const unsigned int             cycle,
+                            const ContactComputation<dim> &computation,
+                            const Vector<double>          *eps_E)
+  {
+    write_contact_table(cycle, computation);
+    statistics_table.end_row();
+    write_statistics();
+    if (with_vtu)
+      write_vtu(cycle, computation, eps_E);
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::write_vtu(const unsigned int             cycle,
+                                const ContactComputation<dim> &computation,
+                                const Vector<double>          *eps_E)
+  {
+    const bool             root        = pcout.is_active();
+    const DoFHandler<dim> &dof_handler = computation.dof_handler();
+    const FE_SimplexP<dim> scalar_fe(1);
+    DoFHandler<dim>        scalar_dof_handler(dof_handler.get_triangulation());
+    scalar_dof_handler.distribute_dofs(scalar_fe);
+
+    // contact fields as P1 functions that vanish away from GC
+    Vector<double> pressure(scalar_dof_handler.n_dofs());
+    Vector<double> active(scalar_dof_handler.n_dofs());
+    {
+      const ContactBoundary<dim> &contact_boundary =
+        computation.contact_boundary();
+      std::map<unsigned int, types::global_dof_index> dof_of_vertex;
+      for (const auto &cell : scalar_dof_handler.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
+      const Vector<double> lambda =
+        computation.condition().multiplier(computation.dual());
+      const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+      for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+        {
+          const auto dof =
+            dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
+          pressure[dof] = -lambda[i];
+          active[dof]   = computation.active_set()[i] ? 1. : 0.;
+        }
+    }
+
+    const StressPostprocessor<dim> stress(computation.material());
+    DataOut<dim>                   data_out; // (the cells this rank owns)
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+                     vector_part(dim,
+                  DataComponentInterpretation::component_is_part_of_vector);
+    const LA::Vector ghosted = with_ghosts(computation.displacement(),
+                                           computation.locally_relevant_dofs());
+    data_out.add_data_vector(dof_handler,
+                             ghosted,
+                             std::vector<std::string>(dim, "displacement"),
+                             vector_part);
+    data_out.add_data_vector(dof_handler, ghosted, stress);
+    data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
+    data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
+    std::unique_ptr<CellDataPostprocessor<dim>> eps_E_field;
+    if (eps_E != nullptr)
+      {
+        eps_E_field =
+          std::make_unique<CellDataPostprocessor<dim>>("eps_E", *eps_E);
+        data_out.add_data_vector(dof_handler, ghosted, *eps_E_field);
+      }
+    data_out.build_patches(computation.mapping());
+    // one file serially; with N ranks a piece per rank and a .pvtu record
+    const std::string  base = "solution-" + Utilities::int_to_string(cycle, 2);
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    std::string name = base + ".vtu";
+    if (n_ranks > 1)
+      {
+        const unsigned int rank =
+          Utilities::MPI::this_mpi_process(mpi_communicator);
+        const auto piece = [&](const unsigned int r) {
+          return base + "." + Utilities::int_to_string(r, 3) + ".vtu";
+        };
+        std::vector<std::string> pieces;
+        for (unsigned int r = 0; r < n_ranks; ++r)
+          pieces.push_back(piece(r));
+        // rank 0 lists every piece before any is written, so that a run
+        // stopped in between leaves no unlisted file
+        if (root)
+          for (const auto &file : pieces)
+            output_files.record(file);
+        MPI_Barrier(mpi_communicator);
+        output_files.write(piece(rank),
+                           [&](std::ostream &out) { data_out.write_vtu(out); });
+        name = base + ".pvtu";
+        if (root)
+          output_files.write(name, [&](std::ostream &out) {
+            data_out.write_pvtu_record(out, pieces);
+          });
+      }
+    else
+      output_files.write(name,
+                         [&](std::ostream &out) { data_out.write_vtu(out); });
+    vtu_files.emplace_back(cycle, name);
+    if (root)
+      output_files.write("solution.pvd", [&](std::ostream &out) {
+        DataOutBase::write_pvd_record(out, vtu_files);
+      });
+  }
+
+  template class ResultsOutput<2>;
+  template class ResultsOutput<3>;
+} // namespace Signorini
