@@ -196,12 +196,12 @@ namespace Signorini
       size_predictor->predict({local_error, near_singularity},
                               adaptation_target.target_error);
 
-    // h*_E = r_E h_E: the region of E is refined ceil(log2(1 / r_E)) times
-    // beyond the level of E (fewer than its level if r_E > 1)
-    std::vector<int> level_change(n_cells);
-    for (unsigned int c = 0; c < n_cells; ++c)
-      level_change[c] = static_cast<int>(
-        std::ceil(std::log2(1. / prediction.size_ratio[c]) - 1e-10));
+    // h*_E = r_E h_E in whole levels: the region of E is refined k_E times
+    // beyond the level of E (fewer than its level if k_E < 0)
+    const std::vector<int> level_change = size_predictor->level_changes(
+      {local_error, near_singularity, &adaptive_mesh.levels()},
+      prediction,
+      adaptation_target.target_error);
     predicted_cells = prediction.predicted_cells;
     if (size_predictor->uses_estimate())
       results.size_prediction(size_predictor->name(), prediction);

@@ -10,7 +10,11 @@
 // - the limits on the size change are respected, and the constraint still
 //   holds when the limits bind on some cells;
 // - fixed fraction: the halved cells are the largest contributions and the
-//   smallest such set that holds the requested share of eps^2.
+//   smallest such set that holds the requested share of eps^2;
+// - optimal size in whole levels: the predicted error meets eps_0, the
+//   levels respect the limits and level 0, the count is below that of the
+//   rounding of every r_E to the finer power of two, and equals the fewest
+//   cells found by enumerating every choice of levels on small cases.
 
 #include <signorini/adaptation/fixed_fraction.h>
 #include <signorini/adaptation/optimal_size.h>
@@ -203,5 +207,89 @@ main()
                   "yes" :
                   "NO")
             << "; N* = " << p.predicted_cells << std::endl;
+  }
+
+  // 6. optimal size in whole levels
+  {
+    const OptimalSizePredictor      predictor(d, q, 0.5, 1. / 16., 2.);
+    const std::vector<unsigned int> levels(n, 1);
+    const SizePredictor::Input      input{eps_E, regular, &levels};
+    const auto                      p = predictor.predict(input, eps_0);
+    const std::vector<int> k = predictor.level_changes(input, p, eps_0);
+    const std::vector<int> rounded =
+      predictor.SizePredictor::level_changes(input, p, eps_0);
+    const auto error_squared = [&](const std::vector<int> &halvings) {
+      double sum = 0.;
+      for (unsigned int c = 0; c < n; ++c)
+        sum += eps_E[c] * eps_E[c] * std::pow(2., -2. * q * halvings[c]);
+      return sum;
+    };
+    const auto count = [&](const std::vector<int> &halvings) {
+      double cells = 0.;
+      for (const int h : halvings)
+        cells += std::pow(2., double(d) * h);
+      return cells;
+    };
+    const bool within_limits = *std::min_element(k.begin(), k.end()) >= -1 &&
+                               *std::max_element(k.begin(), k.end()) <= 4;
+    deallog << "whole levels: predicted error meets eps_0 "
+            << (error_squared(k) <= eps_0 * eps_0 * (1. + 1e-12) ? "yes" : "NO")
+            << ", within the limits " << (within_limits ? "yes" : "NO")
+            << "; cells " << count(k) << ", N* = " << p.predicted_cells
+            << ", rounding every r_E down " << count(rounded)
+            << "; fewer than the rounding "
+            << (count(k) <= count(rounded) ? "yes" : "NO") << std::endl;
+
+    // small cases: every choice of levels in [-1, 4] (6^5 of them)
+    std::mt19937                           generator(11);
+    std::uniform_real_distribution<double> uniform(0., 1.);
+    unsigned int                           n_optimal = 0, n_cases = 20;
+    double                                 worst = 1.;
+    for (unsigned int trial = 0; trial < n_cases; ++trial)
+      {
+        const unsigned int        m = 5;
+        Vector<double>            small(m);
+        std::vector<bool>         regular_small(m, false);
+        std::vector<unsigned int> levels_small(m, 1);
+        for (unsigned int c = 0; c < m; ++c)
+          small[c] = 0.01 + 0.1 * std::pow(uniform(generator), 2.);
+        const double target =
+          small.l2_norm() * (0.05 + 0.3 * uniform(generator));
+        const SizePredictor::Input small_input{small,
+                                               regular_small,
+                                               &levels_small};
+        const auto small_prediction = predictor.predict(small_input, target);
+        const std::vector<int> chosen =
+          predictor.level_changes(small_input, small_prediction, target);
+        const auto small_count = [&](const std::vector<int> &h) {
+          double cells = 0.;
+          for (const int x : h)
+            cells += std::pow(2., double(d) * x);
+          return cells;
+        };
+        const auto small_error = [&](const std::vector<int> &h) {
+          double sum = 0.;
+          for (unsigned int c = 0; c < m; ++c)
+            sum += small[c] * small[c] * std::pow(2., -2. * q * h[c]);
+          return sum;
+        };
+        double           fewest = 1e300;
+        std::vector<int> h(m, -1);
+        for (unsigned int code = 0; code < 7776; ++code)
+          {
+            unsigned int rest = code;
+            for (unsigned int c = 0; c < m; ++c, rest /= 6)
+              h[c] = int(rest % 6) - 1;
+            if (small_error(h) <= target * target * (1. + 1e-12))
+              fewest = std::min(fewest, small_count(h));
+          }
+        if (small_error(chosen) <= target * target * (1. + 1e-12) &&
+            small_count(chosen) <= fewest * (1. + 1e-12))
+          ++n_optimal;
+        worst = std::max(worst, small_count(chosen) / fewest);
+      }
+    deallog << "small cases: the fewest cells in " << n_optimal << " of "
+            << n_cases << ", at most " << worst << " times the fewest"
+            << std::endl;
   }
 }

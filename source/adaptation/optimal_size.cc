@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
+#include <utility>
 
 namespace Signorini
 {
@@ -130,5 +132,94 @@ namespace Signorini
     for (unsigned int c = 0; c < n; ++c)
       size_ratio[c] = std::exp(log_ratio(c, upper));
     return prediction_of(std::move(size_ratio), eps_E, q, dim);
+  }
+
+
+
+  std::vector<int>
+  OptimalSizePredictor::level_changes(const Input      &input,
+                                      const Prediction &prediction,
+                                      const double      target_error) const
+  {
+    const Vector<double> &eps_E = input.local_error;
+    const unsigned int    n     = eps_E.size();
+    const double          d     = dim;
+    // the limits per step in whole levels: r_E >= minimum_ratio, r_E <=
+    // maximum_ratio
+    const int most_halvings =
+      static_cast<int>(std::floor(std::log2(1. / minimum_ratio) + 1e-10));
+    const int fewest_halvings =
+      -static_cast<int>(std::floor(std::log2(maximum_ratio) + 1e-10));
+
+    std::vector<int>    k(n);
+    std::vector<double> q(n);
+    double              error_squared      = 0.;
+    const auto          cell_error_squared = [&](const unsigned int c,
+                                        const int          halvings) {
+      return eps_E[c] * eps_E[c] * std::pow(2., -2. * q[c] * halvings);
+    };
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        q[c] = input.near_singularity[c] ? singular_rate : rate;
+        // (no cell becomes coarser than level 0 of the hierarchy)
+        const int coarsest =
+          input.levels == nullptr ?
+            fewest_halvings :
+            std::max(fewest_halvings, -int((*input.levels)[c]));
+        k[c] = std::clamp(static_cast<int>(std::floor(
+                            std::log2(1. / prediction.size_ratio[c]) + 1e-10)),
+                          coarsest,
+                          most_halvings);
+        error_squared += cell_error_squared(c, k[c]);
+      }
+
+    const std::vector<int> start = k;
+
+    // (error decrease per added cell, cell) of the next halving of a cell
+    const auto next_halving = [&](const unsigned int c) {
+      const double decrease =
+        cell_error_squared(c, k[c]) - cell_error_squared(c, k[c] + 1);
+      const double added_cells =
+        std::pow(2., d * (k[c] + 1)) - std::pow(2., d * k[c]);
+      return std::make_pair(decrease / added_cells, c);
+    };
+    std::priority_queue<std::pair<double, unsigned int>> candidates;
+    for (unsigned int c = 0; c < n; ++c)
+      if (k[c] < most_halvings && eps_E[c] > 0.)
+        candidates.push(next_halving(c));
+    const double target_squared = target_error * target_error;
+    while (error_squared > target_squared && !candidates.empty())
+      {
+        const unsigned int c = candidates.top().second;
+        candidates.pop();
+        error_squared -=
+          cell_error_squared(c, k[c]) - cell_error_squared(c, k[c] + 1);
+        ++k[c];
+        if (k[c] < most_halvings)
+          candidates.push(next_halving(c));
+      }
+
+    // The last halvings taken may have overshot eps_0: undo those the
+    // target does not need, the costliest first.
+    std::vector<unsigned int> by_cost(n);
+    for (unsigned int c = 0; c < n; ++c)
+      by_cost[c] = c;
+    std::sort(by_cost.begin(),
+              by_cost.end(),
+              [&](const unsigned int a, const unsigned int b) {
+                return k[a] > k[b];
+              });
+    for (const unsigned int c : by_cost)
+      if (k[c] > start[c])
+        {
+          const double increase =
+            cell_error_squared(c, k[c] - 1) - cell_error_squared(c, k[c]);
+          if (error_squared + increase <= target_squared)
+            {
+              error_squared += increase;
+              --k[c];
+            }
+        }
+    return k;
   }
 } // namespace Signorini

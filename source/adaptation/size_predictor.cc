@@ -28,6 +28,20 @@ namespace Signorini
 
 
 
+  std::vector<int>
+  SizePredictor::level_changes(const Input &,
+                               const Prediction &prediction,
+                               const double) const
+  {
+    const Vector<double> &r = prediction.size_ratio;
+    std::vector<int>      changes(r.size());
+    for (unsigned int c = 0; c < r.size(); ++c)
+      changes[c] = static_cast<int>(std::ceil(std::log2(1. / r[c]) - 1e-10));
+    return changes;
+  }
+
+
+
   const Registry<SizePredictor, unsigned int> &
   SizePredictor::registry()
   {

@@ -33,6 +33,9 @@ namespace Signorini
       const Vector<double> &local_error;
       /// cells with a vertex at a singular point (see AdaptiveMesh)
       const std::vector<bool> &near_singularity;
+      /// the level of each cell in the refinement hierarchy (AdaptiveMesh):
+      /// no cell becomes coarser than level 0 (none given: no such bound)
+      const std::vector<unsigned int> *levels = nullptr;
     };
 
     /// The predicted mesh.
@@ -65,6 +68,18 @@ namespace Signorini
      */
     virtual Prediction
     predict(const Input &input, const double target_error) const = 0;
+
+    /**
+     * The prediction realised in whole refinement levels: per cell of the
+     * current mesh, how many times more (or, negative, fewer) its region is
+     * halved, r_E ~ 2^-k_E. By default k_E = ceil(log2(1 / r_E)), never
+     * coarser than asked; a predictor with an error model may choose
+     * better (OptimalSizePredictor).
+     */
+    virtual std::vector<int>
+    level_changes(const Input      &input,
+                  const Prediction &prediction,
+                  const double      target_error) const;
 
     /// Does the prediction use eps_E (and so need the estimator)?
     virtual bool
