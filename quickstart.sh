@@ -9,7 +9,7 @@ what=${1:-}
 jobs=$(nproc)
 
 install_dependencies() {
-  local packages="cmake make g++ perl openmpi-bin libdeal.ii-dev numdiff libopenblas0 python3"
+  local packages="cmake make g++ perl openmpi-bin libdeal.ii-dev libgmsh-dev numdiff libopenblas0 python3"
   local missing=""
   for p in $packages; do
     dpkg -s "$p" > /dev/null 2>&1 || missing="$missing $p"

@@ -250,8 +250,7 @@ namespace Signorini
     statistics_table.add_value("estimate_seconds", seconds);
     statistics_table.add_value("equilibrium_defect",
                                estimate.equilibrium_defect);
-    statistics_table.add_value("condition_defect",
-                               estimate.condition_defect);
+    statistics_table.add_value("condition_defect", estimate.condition_defect);
   }
 
 

@@ -1,6 +1,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
+#include <deal.II/grid/grid_tools.h>
+
 #include <signorini/adaptation/mesh_quality.h>
 #include <signorini/input_error.h>
 #include <signorini/signorini_problem.h>
@@ -51,6 +53,7 @@ namespace Signorini
     ExactSolution<dim>::declare_parameters(prm);
     MeshInput<dim>::declare_parameters(prm);
     SizePredictor::registry().declare_parameters(prm);
+    GmshRemesher<dim>::declare_parameters(prm);
     AdaptationTarget::declare_parameters(prm);
     ContactComputation<dim>::declare_parameters(prm);
     ConstitutiveRelationError<dim>::declare_parameters(prm);
@@ -79,6 +82,8 @@ namespace Signorini
     estimator.parse_parameters(prm);
     size_predictor = SizePredictor::registry().create(prm, dim);
     adaptation_target.parse_parameters(prm);
+    remesher.parse_parameters(prm);
+    remesher.check_geometry(mesh_input);
     if (size_predictor->needs_target_error() && !adaptation_target.enabled())
       throw InputError("Mesh adaptation/Target error: the " +
                        size_predictor->name() +
@@ -195,6 +200,29 @@ namespace Signorini
     const SizePredictor::Prediction prediction =
       size_predictor->predict({local_error, near_singularity},
                               adaptation_target.target_error);
+    predicted_cells = prediction.predicted_cells;
+    if (size_predictor->uses_estimate())
+      results.size_prediction(size_predictor->name(), prediction);
+    const auto refuse = [&](const std::string &size) {
+      return std::runtime_error(
+        "Maximum cells: the adapted mesh of cycle " + std::to_string(cycle) +
+        " would have " + size + " cells, more than Maximum cells = " +
+        cell_count(max_cells) + " (outputs of " +
+        (cycle == 1 ? "cycle 0" : "cycles 0 to " + std::to_string(cycle - 1)) +
+        " written)");
+    };
+
+    if (remesher.enabled())
+      {
+        // continuous sizes: the new mesh has about N* cells
+        if (predicted_cells > max_cells)
+          throw refuse("about " + cell_count(predicted_cells));
+        remesher.remesh(mesh_input, prediction.size_ratio, triangulation);
+        adaptive_mesh.adopt(triangulation);
+        if (triangulation.n_active_cells() > max_cells)
+          throw refuse(cell_count(triangulation.n_active_cells()));
+        return;
+      }
 
     // h*_E = r_E h_E in whole levels: the region of E is refined k_E times
     // beyond the level of E (fewer than its level if k_E < 0)
@@ -202,9 +230,6 @@ namespace Signorini
       {local_error, near_singularity, &adaptive_mesh.levels()},
       prediction,
       adaptation_target.target_error);
-    predicted_cells = prediction.predicted_cells;
-    if (size_predictor->uses_estimate())
-      results.size_prediction(size_predictor->name(), prediction);
 
     // Refuse a mesh beyond Maximum cells before building it. A cell refined
     // k levels becomes 2^(dim k) cells (the halves of a green cell count as
@@ -232,14 +257,6 @@ namespace Signorini
                          std::max(new_a, new_b) -
                            int(std::min(levels[a], levels[b])));
           }
-    const auto refuse = [&](const std::string &size) {
-      return std::runtime_error(
-        "Maximum cells: the adapted mesh of cycle " + std::to_string(cycle) +
-        " would have " + size + " cells, more than Maximum cells = " +
-        cell_count(max_cells) + " (outputs of " +
-        (cycle == 1 ? "cycle 0" : "cycles 0 to " + std::to_string(cycle - 1)) +
-        " written)");
-    };
     if (requested_cells > max_cells)
       throw refuse("about " + cell_count(requested_cells));
     adaptive_mesh.remesh(mesh_input, level_change, triangulation);
@@ -333,7 +350,6 @@ namespace Signorini
     if (reference.solved())
       {
         TimerOutput::Scope t(timer, "reference comparison");
-        const auto        &levels = adaptive_mesh.levels();
         results.reference_comparison(
           reference.compare(computation.dof_handler(),
                             replicate(computation.displacement()),
@@ -341,7 +357,7 @@ namespace Signorini
                             estimate.eps,
                             std::sqrt(estimate.e_squared)),
           reference.computation().dof_handler().n_dofs(),
-          *std::max_element(levels.begin(), levels.end()) >= reference.level(),
+          reference_not_finer(),
           estimator.enabled());
       }
     if (reference.enabled() &&
@@ -350,6 +366,22 @@ namespace Signorini
                      u_hat,
                      estimate.eps,
                      std::sqrt(estimate.e_squared));
+  }
+
+
+
+  template <int dim>
+  bool
+  SignoriniProblem<dim>::reference_not_finer() const
+  {
+    // refined meshes compare by level in the same hierarchy; a remeshed
+    // mesh by its smallest cell against the reference's largest
+    if (remesher.enabled())
+      return GridTools::minimal_cell_diameter(triangulation) <
+             GridTools::maximal_cell_diameter(
+               reference.computation().dof_handler().get_triangulation());
+    const auto &levels = adaptive_mesh.levels();
+    return *std::max_element(levels.begin(), levels.end()) >= reference.level();
   }
 
 

@@ -61,6 +61,14 @@ case_prm "Dimension = 4" "Dimension: The entry value 4" "set Dimension = 4"
 case_prm "Dimension = 3 with 2D data" "Dimension = 3: Boundary conditions/Dirichlet 1: invalid function" \
   "set Dimension = 3"
 
+case_prm "remeshing a mesh file" "Mesh adaptation/Realisation = remeshing needs the geometry" \
+  "subsection Mesh
+  set Source = file
+  set File name = $src/tests/meshes/square-22.msh
+end
+subsection Mesh adaptation
+  set Realisation = remeshing
+end"
 case_prm "missing mesh file" "cannot open mesh file" \
   "subsection Mesh
   set Source = file

@@ -16,10 +16,7 @@ namespace Signorini
    * on the target cells that a source edge crosses (e.g. the green edges of
    * an adapted mesh compared on a uniform reference).
    *
-   * deal.II 9.4's point location and interpolate_to_different_mesh are not
-   * reliable on triangles (dealii-9.4-triangles.md), so the source cell of
-   * each vertex is found with an rtree of cell bounding boxes and a
-   * barycentric test.
+   * The source cell of each vertex is found by a CellLocator.
    */
   template <int dim>
   Vector<double>

@@ -9,6 +9,7 @@
 #include <deal.II/distributed/shared_tria.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/adaptation/size_predictor.h>
 #include <signorini/adaptation/target_error.h>
 #include <signorini/contact_computation.h>
@@ -126,6 +127,11 @@ namespace Signorini
     void
     output_results(const unsigned int cycle);
 
+    /// May the reference be coarser than the current mesh somewhere (then
+    /// eps_ex is underestimated)?
+    bool
+    reference_not_finer() const;
+
     /// Has the last estimate reached the target error (with tolerance)?
     bool
     target_reached() const;
@@ -170,6 +176,7 @@ namespace Signorini
     AdaptiveMesh<dim>                    adaptive_mesh;
     std::unique_ptr<SizePredictor>       size_predictor;
     AdaptationTarget                     adaptation_target;
+    GmshRemesher<dim>                    remesher;
     double                               predicted_cells = 0.;
 
     // The computation on the current mesh

@@ -22,6 +22,17 @@ namespace Signorini
 
   template <int dim>
   void
+  AdaptiveMesh<dim>::adopt(Triangulation<dim> &mesh)
+  {
+    hierarchy.clear();
+    hierarchy.copy_triangulation(mesh);
+    build_conforming_mesh(mesh);
+  }
+
+
+
+  template <int dim>
+  void
   AdaptiveMesh<dim>::remesh(const MeshInput<dim>   &input,
                             const std::vector<int> &level_change,
                             Triangulation<dim>     &mesh)

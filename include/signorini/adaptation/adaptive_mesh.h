@@ -53,6 +53,15 @@ namespace Signorini
            Triangulation<dim>     &mesh);
 
     /// Per active cell of the computational mesh: its hierarchy level.
+    /**
+     * Take @p mesh (made elsewhere, e.g. by remeshing) as the initial mesh
+     * of a new hierarchy: every cell at level 0, no green cells. Further
+     * meshes then come from initialize() or adopt(), not remesh(), which
+     * rebuilds from the input.
+     */
+    void
+    adopt(Triangulation<dim> &mesh);
+
     const std::vector<unsigned int> &
     levels() const;
 

@@ -55,8 +55,9 @@ namespace Signorini
      * per added cell, eps_E^2 2^(-2 q_E k_E) (1 - 2^(-2 q_E)) / (2^(d (k_E +
      * 1)) - 2^(d k_E)), is largest, until the predicted error sum_E eps_E^2
      * 2^(-2 q_E k_E) reaches eps_0^2 (marginal analysis: the ratio decreases
-     * with k_E, so each step takes the cheapest error decrease left). The count
-     * sum_E 2^(d k_E) then lies close to N* (doc/adaptation.md).
+     * with k_E, so each step takes the cheapest error decrease left), then
+     * undo the halvings the last steps made unnecessary. The count sum_E
+     * 2^(d k_E) then lies close to N* (doc/adaptation.md).
      */
     std::vector<int>
     level_changes(const Input      &input,

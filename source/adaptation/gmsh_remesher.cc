@@ -1,0 +1,301 @@
+#include <deal.II/base/mpi.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <signorini/adaptation/gmsh_remesher.h>
+#include <signorini/cell_locator.h>
+#include <signorini/input_error.h>
+#include <signorini/registry.h>
+
+#include <algorithm>
+#include <cmath>
+#include <gmsh.h>
+#include <map>
+
+namespace Signorini
+{
+  namespace
+  {
+    enum class Realisation
+    {
+      refinement,
+      remeshing
+    };
+
+    const NamedValues<Realisation> &
+    realisation_names()
+    {
+      static const NamedValues<Realisation> names(
+        {{"refinement",
+          Realisation::refinement,
+          "red refinement of the initial mesh in whole levels, made "
+          "conforming by green closure"},
+         {"remeshing",
+          Realisation::remeshing,
+          "the geometry meshed anew by Gmsh with the predicted sizes as a "
+          "continuous size field"}});
+      return names;
+    }
+
+
+
+    /// The mesh Gmsh made, flat, as rank 0 sends it to the others.
+    struct FlatMesh
+    {
+      std::vector<double>       coordinates;    // x, y per vertex
+      std::vector<unsigned int> triangles;      // 3 vertices per cell
+      std::vector<unsigned int> boundary_lines; // 2 vertices and the id
+    };
+
+
+
+    /// The generated block (MeshInput): the unit square, boundary ids 1
+    /// (x = 0), 2 (y = 0), 3 and 5 (y = 1, x < or > 1/2), 4 and 6 (x = 1,
+    /// y > or < 1/2).
+    void
+    add_block_geometry()
+    {
+      namespace geo = gmsh::model::geo;
+      const int p0 = geo::addPoint(0, 0, 0), p1 = geo::addPoint(1, 0, 0),
+                p2 = geo::addPoint(1, 0.5, 0), p3 = geo::addPoint(1, 1, 0),
+                p4 = geo::addPoint(0.5, 1, 0), p5 = geo::addPoint(0, 1, 0);
+      // (line, boundary id) counterclockwise
+      const std::vector<std::pair<int, int>> edges = {{geo::addLine(p0, p1), 2},
+                                                      {geo::addLine(p1, p2), 6},
+                                                      {geo::addLine(p2, p3), 4},
+                                                      {geo::addLine(p3, p4), 5},
+                                                      {geo::addLine(p4, p5), 3},
+                                                      {geo::addLine(p5, p0),
+                                                       1}};
+      std::vector<int>                       loop;
+      for (const auto &[line, id] : edges)
+        loop.push_back(line);
+      const int surface = geo::addPlaneSurface({geo::addCurveLoop(loop)});
+      geo::synchronize();
+      for (const auto &[line, id] : edges)
+        gmsh::model::addPhysicalGroup(1, {line}, id);
+      gmsh::model::addPhysicalGroup(2, {surface}, 1);
+    }
+
+
+
+    /// Mesh the geometry with Gmsh, the size at a point given by
+    /// @p size_at, and flatten the result.
+    FlatMesh
+    mesh_with_gmsh(const std::function<double(double, double)> &size_at)
+    {
+      gmsh::initialize();
+      FlatMesh flat;
+      try
+        {
+          gmsh::option::setNumber("General.Terminal", 0);
+          gmsh::option::setNumber("General.Verbosity", 0);
+          gmsh::option::setNumber("General.NumThreads", 1);
+          gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+          gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+          gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+          gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+          gmsh::model::add("remeshed");
+          add_block_geometry();
+          gmsh::model::mesh::setSizeCallback(
+            [&](int, int, double x, double y, double) {
+              return size_at(x, y);
+            });
+          gmsh::model::mesh::generate(2);
+
+          std::vector<std::size_t> node_tags;
+          std::vector<double>      coordinates, parametric;
+          gmsh::model::mesh::getNodes(node_tags, coordinates, parametric);
+          std::map<std::size_t, unsigned int> vertex_of_tag;
+          std::vector<std::size_t>            element_tags, element_nodes;
+          gmsh::model::mesh::getElementsByType(2, element_tags, element_nodes);
+          std::map<std::size_t, unsigned int> index_of_node;
+          for (unsigned int n = 0; n < node_tags.size(); ++n)
+            index_of_node[node_tags[n]] = n;
+          const auto vertex = [&](const std::size_t tag) {
+            const auto [entry, inserted] =
+              vertex_of_tag.emplace(tag, vertex_of_tag.size());
+            if (inserted)
+              for (unsigned int d = 0; d < 2; ++d)
+                flat.coordinates.push_back(
+                  coordinates[3 * index_of_node.at(tag) + d]);
+            return entry->second;
+          };
+          for (const std::size_t tag : element_nodes)
+            flat.triangles.push_back(vertex(tag));
+
+          gmsh::vectorpair groups;
+          gmsh::model::getPhysicalGroups(groups, 1);
+          for (const auto &[group_dim, id] : groups)
+            {
+              std::vector<int> entities;
+              gmsh::model::getEntitiesForPhysicalGroup(group_dim, id, entities);
+              for (const int entity : entities)
+                {
+                  // (Gmsh 4.8 leaves non-empty outputs as they are)
+                  element_tags.clear();
+                  element_nodes.clear();
+                  gmsh::model::mesh::getElementsByType(1,
+                                                       element_tags,
+                                                       element_nodes,
+                                                       entity);
+                  for (unsigned int e = 0; e < element_tags.size(); ++e)
+                    {
+                      flat.boundary_lines.push_back(
+                        vertex(element_nodes[2 * e]));
+                      flat.boundary_lines.push_back(
+                        vertex(element_nodes[2 * e + 1]));
+                      flat.boundary_lines.push_back(id);
+                    }
+                }
+            }
+        }
+      catch (...)
+        {
+          gmsh::finalize();
+          throw;
+        }
+      gmsh::finalize();
+      return flat;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  GmshRemesher<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh adaptation");
+    prm.declare_entry("Realisation",
+                      realisation_names().default_name(),
+                      Patterns::Selection(realisation_names().selection()),
+                      realisation_names().help(
+                        "How the predicted sizes become the next mesh"));
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  GmshRemesher<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh adaptation");
+    is_enabled = realisation_names().value(prm.get("Realisation")) ==
+                 Realisation::remeshing;
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  bool
+  GmshRemesher<dim>::enabled() const
+  {
+    return is_enabled;
+  }
+
+
+
+  template <int dim>
+  void
+  GmshRemesher<dim>::check_geometry(const MeshInput<dim> &input) const
+  {
+    if (is_enabled &&
+        (dim != 2 || input.source != MeshInput<dim>::Source::block))
+      throw InputError(
+        "Mesh adaptation/Realisation = remeshing needs the geometry of the "
+        "domain: only the generated block (Mesh/Source = block, 2D) has one; "
+        "a Gmsh mesh file is a mesh, not a geometry");
+  }
+
+
+
+  template <int dim>
+  void
+  GmshRemesher<dim>::remesh(const MeshInput<dim> &input,
+                            const Vector<double> &size_ratio,
+                            Triangulation<dim>   &mesh) const
+  {
+    check_geometry(input);
+    if constexpr (dim == 2)
+      {
+        const MPI_Comm communicator = MPI_COMM_WORLD;
+        FlatMesh       flat;
+        if (Utilities::MPI::this_mpi_process(communicator) == 0)
+          {
+            // log of the size asked for at every vertex: the mean over its
+            // cells of log(r_E (4 |E| / sqrt 3)^(1/2))
+            std::vector<double>       log_size(mesh.n_vertices(), 0.);
+            std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
+            for (const auto &cell : mesh.active_cell_iterators())
+              {
+                const double size =
+                  size_ratio[cell->active_cell_index()] *
+                  std::sqrt(4. * cell->measure() / std::sqrt(3.));
+                for (const unsigned int v : cell->vertex_indices())
+                  {
+                    log_size[cell->vertex_index(v)] += std::log(size);
+                    ++n_cells[cell->vertex_index(v)];
+                  }
+              }
+            double smallest = 1e300;
+            for (unsigned int v = 0; v < log_size.size(); ++v)
+              if (n_cells[v] > 0)
+                {
+                  log_size[v] /= n_cells[v];
+                  smallest = std::min(smallest, std::exp(log_size[v]));
+                }
+            const CellLocator<dim> locator(mesh);
+            const auto size_at = [&](const double x, const double y) {
+              const auto location = locator.locate(Point<dim>(x, y));
+              if (!location.found)
+                return smallest;
+              const auto &cell      = locator.cell(location.cell);
+              double      log_value = 0.;
+              for (const unsigned int v : cell->vertex_indices())
+                log_value +=
+                  location.weights[v] * log_size[cell->vertex_index(v)];
+              return std::exp(log_value);
+            };
+            flat = mesh_with_gmsh(size_at);
+          }
+        flat.coordinates =
+          Utilities::MPI::broadcast(communicator, flat.coordinates);
+        flat.triangles =
+          Utilities::MPI::broadcast(communicator, flat.triangles);
+        flat.boundary_lines =
+          Utilities::MPI::broadcast(communicator, flat.boundary_lines);
+
+        std::vector<Point<dim>> vertices;
+        for (unsigned int v = 0; 2 * v < flat.coordinates.size(); ++v)
+          vertices.emplace_back(flat.coordinates[2 * v],
+                                flat.coordinates[2 * v + 1]);
+        std::vector<CellData<dim>> cells;
+        for (unsigned int c = 0; 3 * c < flat.triangles.size(); ++c)
+          {
+            CellData<dim> cell(3);
+            cell.vertices = {flat.triangles[3 * c],
+                             flat.triangles[3 * c + 1],
+                             flat.triangles[3 * c + 2]};
+            cells.push_back(cell);
+          }
+        SubCellData boundary;
+        for (unsigned int l = 0; 3 * l < flat.boundary_lines.size(); ++l)
+          {
+            CellData<1> line;
+            line.vertices    = {flat.boundary_lines[3 * l],
+                                flat.boundary_lines[3 * l + 1]};
+            line.boundary_id = flat.boundary_lines[3 * l + 2];
+            boundary.boundary_lines.push_back(line);
+          }
+        GridTools::invert_cells_with_negative_measure(vertices, cells);
+        mesh.clear();
+        mesh.create_triangulation(vertices, cells, boundary);
+      }
+  }
+
+  template class GmshRemesher<2>;
+  template class GmshRemesher<3>;
+} // namespace Signorini
