@@ -3,17 +3,9 @@
 // Generate the mesh with:  gmsh -2 -format msh22 hertz.geo -o hertz.msh
 // Physical curve tags (boundary ids): 1 symmetry line x = 0, 2 the arc
 // (candidate contact zone), 3 the top edge y = 0 (imposed displacement).
-R = 1;
+Include "hertz-geometry.geo";
 h_contact = 0.0025;
 h_far = 0.08;
-Point(1) = {0, 0, 0, h_far};
-Point(2) = {R, 0, 0, h_far};
-Point(3) = {0, -R, 0, h_contact};
-Circle(1) = {3, 1, 2};
-Line(2) = {2, 1};
-Line(3) = {1, 3};
-Curve Loop(1) = {1, 2, 3};
-Plane Surface(1) = {1};
 Field[1] = Distance;
 Field[1].PointsList = {3};
 Field[2] = Threshold;
@@ -26,7 +18,3 @@ Background Field = 2;
 Mesh.MeshSizeExtendFromBoundary = 0;
 Mesh.MeshSizeFromPoints = 0;
 Mesh.MeshSizeFromCurvature = 0;
-Physical Curve(1) = {3};
-Physical Curve(2) = {1};
-Physical Curve(3) = {2};
-Physical Surface(1) = {1};

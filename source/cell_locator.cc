@@ -83,6 +83,8 @@ namespace Signorini
     namespace bgi = boost::geometry::index;
     std::vector<std::pair<BoundingBox<dim>, unsigned int>> hits;
     tree.query(bgi::intersects(p), std::back_inserter(hits));
+    if (hits.empty())
+      tree.query(bgi::nearest(p, 1), std::back_inserter(hits));
     Location location;
     double   best_margin = -1e300;
     for (const auto &hit : hits)

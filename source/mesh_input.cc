@@ -45,6 +45,14 @@ namespace Signorini
                         "physical curve tags are boundary ids (do not use "
                         "0); a relative path is taken from the directory of "
                         "the parameter file.");
+      prm.declare_entry("Geometry file",
+                        "",
+                        Patterns::Anything(),
+                        "Gmsh .geo file of the domain of 'File name' (its "
+                        "physical curves the same boundary ids, no mesh size "
+                        "fields): what Mesh adaptation/Realisation = "
+                        "remeshing meshes anew; a relative path is taken "
+                        "from the directory of the parameter file.");
       prm.declare_entry("Block subdivisions",
                         "4, 3",
                         // (the block is 2D only)
@@ -69,8 +77,9 @@ namespace Signorini
   {
     prm.enter_subsection("Mesh");
     {
-      source    = source_names<dim>().value(prm.get("Source"));
-      file_name = prm.get("File name");
+      source             = source_names<dim>().value(prm.get("Source"));
+      file_name          = prm.get("File name");
+      geometry_file_name = prm.get("Geometry file");
       block_subdivisions.clear();
       for (const auto &s :
            Utilities::split_string_list(prm.get("Block subdivisions")))
@@ -97,6 +106,16 @@ namespace Signorini
   MeshInput<dim>::set_input_directory(const std::string &directory)
   {
     input_directory = directory.empty() ? "." : directory;
+  }
+
+
+
+  template <int dim>
+  std::string
+  MeshInput<dim>::path_of(const std::string &name) const
+  {
+    return (name.empty() || name[0] == '/') ? name :
+                                              input_directory + "/" + name;
   }
 
 
@@ -174,8 +193,7 @@ namespace Signorini
       }
     else
       {
-        const std::string path =
-          (file_name[0] == '/') ? file_name : input_directory + "/" + file_name;
+        const std::string path = path_of(file_name);
         if constexpr (dim == 2)
           {
             // The file is checked by a strict parser first: deal.II's reader

@@ -24,8 +24,7 @@ namespace Signorini
           const auto location = locator.locate(cell->vertex(v));
           if (!location.found)
             throw std::runtime_error(
-              "interpolate_at_vertices: a vertex of the target mesh lies "
-              "outside the source mesh");
+              "interpolate_at_vertices: the source mesh has no cells");
           const typename DoFHandler<dim>::active_cell_iterator source_cell(
             &source.get_triangulation(),
             locator.cell(location.cell)->level(),

@@ -69,6 +69,25 @@ end
 subsection Mesh adaptation
   set Realisation = remeshing
 end"
+case_prm "missing geometry file" "Mesh/Geometry file: cannot open" \
+  "subsection Mesh
+  set Source = file
+  set File name = $src/tests/meshes/square-22.msh
+  set Geometry file = no-such-file.geo
+end
+subsection Mesh adaptation
+  set Realisation = remeshing
+end"
+printf 'this is not a geometry\n' > "$work/garbage.geo"
+case_prm "unreadable geometry file" "Mesh/Geometry file: .*syntax error" \
+  "subsection Mesh
+  set Source = file
+  set File name = $src/tests/meshes/square-22.msh
+  set Geometry file = $work/garbage.geo
+end
+subsection Mesh adaptation
+  set Realisation = remeshing
+end"
 case_prm "missing mesh file" "cannot open mesh file" \
   "subsection Mesh
   set Source = file

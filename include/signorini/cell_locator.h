@@ -25,7 +25,9 @@ namespace Signorini
    * is not reliable on simplices (dealii-9.4-triangles.md), so the cell is
    * found with an rtree of the cells' bounding boxes and a barycentric test:
    * of the candidates, the one the point is deepest inside (round-off on
-   * edges). A point outside the mesh gets the nearest candidate, or none.
+   * edges). A point outside every box (beyond a curved boundary the mesh
+   * approximates) gets the cell of the nearest box, whose weights then
+   * extrapolate.
    */
   template <int dim>
   class CellLocator
@@ -34,7 +36,7 @@ namespace Signorini
     /// What locate() found.
     struct Location
     {
-      /// Whether a cell's box contains the point.
+      /// Whether a cell was found (not for an empty mesh).
       bool found = false;
       /// That cell's active cell index in the mesh.
       unsigned int cell = 0;

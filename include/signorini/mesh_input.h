@@ -47,6 +47,10 @@ namespace Signorini
     void
     set_input_directory(const std::string &directory);
 
+    /// @p name, relative to the input directory unless absolute.
+    std::string
+    path_of(const std::string &name) const;
+
     /// Fill the (empty) @p triangulation with the initial mesh, refined
     /// "Initial refinements" times. Throws InputError for unreadable,
     /// malformed or binary files and for degenerate meshes (see
@@ -60,8 +64,10 @@ namespace Signorini
     double
     n_block_cells() const;
 
-    Source                    source = Source::block;
-    std::string               file_name;
+    Source      source = Source::block;
+    std::string file_name;
+    /// Gmsh .geo of the domain of file_name (for remeshing), or empty.
+    std::string               geometry_file_name;
     std::string               input_directory     = ".";
     std::vector<unsigned int> block_subdivisions  = {4, 3};
     unsigned int              initial_refinements = 0;

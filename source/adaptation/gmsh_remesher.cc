@@ -9,8 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <gmsh.h>
 #include <map>
+#include <stdexcept>
 
 namespace Signorini
 {
@@ -79,10 +81,24 @@ namespace Signorini
 
 
 
+    /// The message of a failure of Gmsh on @p geometry_file (empty: the
+    /// block).
+    std::string
+    gmsh_failure(const std::string &geometry_file, const std::string &what)
+    {
+      return "Mesh adaptation/Realisation = remeshing: Gmsh failed" +
+             (geometry_file.empty() ? std::string() :
+                                      " on <" + geometry_file + ">") +
+             ": " + one_line_message(what);
+    }
+
+
+
     /// Mesh the geometry with Gmsh, the size at a point given by
     /// @p size_at, and flatten the result.
     FlatMesh
-    mesh_with_gmsh(const std::function<double(double, double)> &size_at)
+    mesh_with_gmsh(const std::string                           &geometry_file,
+                   const std::function<double(double, double)> &size_at)
     {
       gmsh::initialize();
       FlatMesh flat;
@@ -90,13 +106,19 @@ namespace Signorini
         {
           gmsh::option::setNumber("General.Terminal", 0);
           gmsh::option::setNumber("General.Verbosity", 0);
+          if (geometry_file.empty())
+            {
+              gmsh::model::add("remeshed");
+              add_block_geometry();
+            }
+          else
+            gmsh::open(geometry_file);
+          // (after the file, which may set options of its own)
           gmsh::option::setNumber("General.NumThreads", 1);
           gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
           gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
           gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
           gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-          gmsh::model::add("remeshed");
-          add_block_geometry();
           gmsh::model::mesh::setSizeCallback(
             [&](int, int, double x, double y, double) {
               return size_at(x, y);
@@ -150,12 +172,25 @@ namespace Signorini
                 }
             }
         }
-      catch (...)
+      // (Gmsh 4.8 throws its last error message as a std::string)
+      catch (const std::string &message)
         {
           gmsh::finalize();
-          throw;
+          throw std::runtime_error(gmsh_failure(geometry_file, message));
+        }
+      catch (const std::exception &exc)
+        {
+          gmsh::finalize();
+          throw std::runtime_error(gmsh_failure(geometry_file, exc.what()));
         }
       gmsh::finalize();
+      if (flat.triangles.empty())
+        throw std::runtime_error("Mesh adaptation/Realisation = remeshing: "
+                                 "Gmsh made no triangles" +
+                                 (geometry_file.empty() ?
+                                    std::string() :
+                                    " from <" + geometry_file +
+                                      "> (does it define a plane surface?)"));
       return flat;
     }
   } // namespace
@@ -202,12 +237,44 @@ namespace Signorini
   void
   GmshRemesher<dim>::check_geometry(const MeshInput<dim> &input) const
   {
-    if (is_enabled &&
-        (dim != 2 || input.source != MeshInput<dim>::Source::block))
+    if (!is_enabled)
+      return;
+    if (dim != 2 || (input.source != MeshInput<dim>::Source::block &&
+                     input.geometry_file_name.empty()))
       throw InputError(
         "Mesh adaptation/Realisation = remeshing needs the geometry of the "
-        "domain: only the generated block (Mesh/Source = block, 2D) has one; "
-        "a Gmsh mesh file is a mesh, not a geometry");
+        "domain: the generated block (Mesh/Source = block, 2D) has one; for "
+        "a Gmsh mesh file give its .geo as Mesh/Geometry file");
+    if (input.source == MeshInput<dim>::Source::file)
+      {
+        const std::string path = input.path_of(input.geometry_file_name);
+        if (!std::ifstream(path))
+          throw InputError("Mesh/Geometry file: cannot open <" + path + ">");
+        // read it now, so that a bad geometry is an input error
+        gmsh::initialize();
+        std::string error;
+        try
+          {
+            gmsh::option::setNumber("General.Terminal", 0);
+            gmsh::open(path);
+            gmsh::vectorpair surfaces;
+            gmsh::model::getEntities(surfaces, 2);
+            if (surfaces.empty())
+              error = "it defines no surface to mesh";
+          }
+        catch (const std::string &message)
+          {
+            error = message.empty() ? "Gmsh cannot read it" : message;
+          }
+        catch (const std::exception &exc)
+          {
+            error = exc.what();
+          }
+        gmsh::finalize();
+        if (!error.empty())
+          throw InputError("Mesh/Geometry file: <" + path +
+                           ">: " + one_line_message(error));
+      }
   }
 
 
@@ -240,26 +307,31 @@ namespace Signorini
                     ++n_cells[cell->vertex_index(v)];
                   }
               }
-            double smallest = 1e300;
             for (unsigned int v = 0; v < log_size.size(); ++v)
               if (n_cells[v] > 0)
                 {
                   log_size[v] /= n_cells[v];
-                  smallest = std::min(smallest, std::exp(log_size[v]));
                 }
             const CellLocator<dim> locator(mesh);
             const auto size_at = [&](const double x, const double y) {
-              const auto location = locator.locate(Point<dim>(x, y));
-              if (!location.found)
-                return smallest;
+              // (outside the mesh, near a curved boundary: the nearest
+              // cell, without extrapolation)
+              const auto  location  = locator.locate(Point<dim>(x, y));
               const auto &cell      = locator.cell(location.cell);
-              double      log_value = 0.;
+              double      log_value = 0., weight_sum = 0.;
               for (const unsigned int v : cell->vertex_indices())
-                log_value +=
-                  location.weights[v] * log_size[cell->vertex_index(v)];
-              return std::exp(log_value);
+                {
+                  const double weight = std::clamp(location.weights[v], 0., 1.);
+                  log_value += weight * log_size[cell->vertex_index(v)];
+                  weight_sum += weight;
+                }
+              return std::exp(log_value / weight_sum);
             };
-            flat = mesh_with_gmsh(size_at);
+            flat =
+              mesh_with_gmsh(input.source == MeshInput<dim>::Source::block ?
+                               std::string() :
+                               input.path_of(input.geometry_file_name),
+                             size_at);
           }
         flat.coordinates =
           Utilities::MPI::broadcast(communicator, flat.coordinates);

@@ -31,8 +31,9 @@ namespace Signorini
    *
    * The geometry: the generated block (Mesh/Source = block: the unit
    * square, its boundary ids on the same edges, split at x = 1/2 on the top
-   * and y = 1/2 on the right). A Gmsh file mesh has no geometry to remesh:
-   * refused at input.
+   * and y = 1/2 on the right), or for a Gmsh mesh file the .geo of its
+   * domain (Mesh/Geometry file, physical curves as boundary ids and no mesh
+   * size fields); without one, remeshing is refused at input.
    */
   template <int dim>
   class GmshRemesher
