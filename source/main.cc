@@ -146,7 +146,8 @@ main(int argc, char **argv)
           }
         catch (const InputError &exc)
           {
-            // the parts that are 2D only say so by name
+            // (the 2D-only parts name themselves in the message; the
+            // prefix says which dimension was asked for)
             throw InputError("Dimension = 3: " + std::string(exc.what()));
           }
     }

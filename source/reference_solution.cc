@@ -1,6 +1,5 @@
 #include <deal.II/base/mpi.h>
 
-#include <signorini/input_error.h>
 #include <signorini/nodal_interpolation.h>
 #include <signorini/reference_solution.h>
 #include <signorini/registry.h>
@@ -161,6 +160,8 @@ namespace Signorini
   unsigned int
   ReferenceSolution<dim>::level() const
   {
+    Assert(is_solved && mesh_choice == Mesh::initial_mesh,
+           ExcMessage("level(): only for a solved initial-mesh reference"));
     return adaptive_mesh.levels()[0];
   }
 

@@ -138,7 +138,7 @@ namespace Signorini
                            const AdaptiveMesh<dim>       &adaptive_mesh,
                            const ContactComputation<dim> &computation,
                            const double                   predicted_cells,
-                           const bool                     adapted)
+                           const bool                     with_prediction)
   {
     const Triangulation<dim> &triangulation =
       computation.dof_handler().get_triangulation();
@@ -148,7 +148,7 @@ namespace Signorini
           << computation.contact_boundary().n_nodes() << " nodes on GC ("
           << computation.condition().n_constraints() << " with a multiplier)"
           << std::endl;
-    if (adapted)
+    if (with_prediction)
       {
         pcout << "   mesh: " << triangulation.n_active_cells() << " cells";
         if (cycle > 0)

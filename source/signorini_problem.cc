@@ -1,7 +1,4 @@
 #include <deal.II/base/mpi.h>
-#include <deal.II/base/utilities.h>
-
-#include <deal.II/grid/grid_tools.h>
 
 #include <signorini/adaptation/mesh_quality.h>
 #include <signorini/input_error.h>
@@ -10,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace Signorini
@@ -285,7 +283,7 @@ namespace Signorini
                  adaptive_mesh,
                  computation,
                  predicted_cells,
-                 size_predictor->uses_estimate());
+                 /*with_prediction=*/size_predictor->uses_estimate());
   }
 
 
@@ -377,9 +375,17 @@ namespace Signorini
     // refined meshes compare by level in the same hierarchy; a remeshed
     // mesh by its smallest cell against the reference's largest
     if (remesher.enabled())
-      return GridTools::minimal_cell_diameter(triangulation) <
-             GridTools::maximal_cell_diameter(
-               reference.computation().dof_handler().get_triangulation());
+      {
+        double smallest = std::numeric_limits<double>::max(), largest = 0.;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          smallest = std::min(smallest, cell->diameter());
+        for (const auto &cell : reference.computation()
+                                  .dof_handler()
+                                  .get_triangulation()
+                                  .active_cell_iterators())
+          largest = std::max(largest, cell->diameter());
+        return smallest < largest;
+      }
     const auto &levels = adaptive_mesh.levels();
     return *std::max_element(levels.begin(), levels.end()) >= reference.level();
   }

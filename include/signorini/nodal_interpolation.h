@@ -16,7 +16,9 @@ namespace Signorini
    * on the target cells that a source edge crosses (e.g. the green edges of
    * an adapted mesh compared on a uniform reference).
    *
-   * The source cell of each vertex is found by a CellLocator.
+   * The source cell of each vertex is found by a CellLocator; a vertex
+   * outside the source mesh (on a curved boundary that a coarser polygon
+   * approximates) extrapolates from the nearest cell.
    */
   template <int dim>
   Vector<double>

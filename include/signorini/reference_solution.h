@@ -89,7 +89,7 @@ namespace Signorini
     const ContactComputation<dim> &
     computation() const;
 
-    /// The refinement level of a reference on the initial mesh.
+    /// The refinement level of a reference on the initial mesh (solved).
     unsigned int
     level() const;
 

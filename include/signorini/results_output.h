@@ -71,14 +71,15 @@ namespace Signorini
     const CsvTable &
     statistics() const;
 
-    /// The mesh of computation @p cycle: cells, DoFs, nodes of GC; for an
-    /// adapted mesh (@p adapted) also its prediction and quality.
+    /// The mesh of computation @p cycle: cells, DoFs, nodes of GC; with a
+    /// size prediction (@p with_prediction) also the predicted count and
+    /// the mesh quality.
     void
     mesh(const unsigned int             cycle,
          const AdaptiveMesh<dim>       &adaptive_mesh,
          const ContactComputation<dim> &computation,
          const double                   predicted_cells,
-         const bool                     adapted);
+         const bool                     with_prediction);
 
     /// The contact solve on screen: iterations, active nodes, energy,
     /// contact force and the solution checks (also for a reference).

@@ -47,11 +47,11 @@ namespace Signorini
    * setup_system(), assemble_system(), solve_contact(), estimate_error(),
    * compare_with_known_solutions() and output_results(), and stops at the
    * target error. Each step is one call of a part: the mesh (MeshInput,
-   * AdaptiveMesh, SizePredictor), the finite element computation on it
-   * (ContactComputation: material, boundary data, contact condition and
-   * solver), the error estimate (ConstitutiveRelationError), the solutions
-   * it is checked against (ExactSolution, ReferenceSolution) and what is
-   * reported (ResultsOutput). The data flow one way: mesh -> solve ->
+   * SizePredictor, AdaptiveMesh or GmshRemesher), the finite element
+   * computation on it (ContactComputation: material, boundary data, contact
+   * condition and solver), the error estimate (ConstitutiveRelationError), the
+   * solutions it is checked against (ExactSolution, ReferenceSolution) and what
+   * is reported (ResultsOutput). The data flow one way: mesh -> solve ->
    * admissible fields and estimate -> size prediction -> new mesh. Every
    * part declares and parses its own parameters.
    */
@@ -98,7 +98,8 @@ namespace Signorini
     make_grid();
 
     /// The mesh of @p cycle from the size predictor (paper section 6),
-    /// rebuilt from the initial one; throws if it would exceed Maximum cells.
+    /// realised by refinement of the initial mesh (AdaptiveMesh) or by
+    /// remeshing (GmshRemesher); throws if it would exceed Maximum cells.
     void
     adapt_mesh(const unsigned int cycle);
 

@@ -15,6 +15,7 @@ namespace Signorini
   {
     hierarchy.clear();
     input.create(hierarchy);
+    from_input = true;
     build_conforming_mesh(mesh);
   }
 
@@ -26,6 +27,7 @@ namespace Signorini
   {
     hierarchy.clear();
     hierarchy.copy_triangulation(mesh);
+    from_input = false;
     build_conforming_mesh(mesh);
   }
 
@@ -38,6 +40,8 @@ namespace Signorini
                             Triangulation<dim>     &mesh)
   {
     AssertDimension(level_change.size(), hierarchy_cell_of.size());
+    Assert(from_input,
+           ExcMessage("remesh() rebuilds from the input: not after adopt()"));
     using cell_iterator = typename Triangulation<dim>::cell_iterator;
 
     // requested level of every active cell of the current hierarchy

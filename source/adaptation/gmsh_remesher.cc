@@ -100,7 +100,8 @@ namespace Signorini
     mesh_with_gmsh(const std::string                           &geometry_file,
                    const std::function<double(double, double)> &size_at)
     {
-      gmsh::initialize();
+      // (not the user's Gmsh configuration files: the same mesh everywhere)
+      gmsh::initialize(0, nullptr, false);
       FlatMesh flat;
       try
         {
@@ -119,6 +120,11 @@ namespace Signorini
           gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
           gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
           gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+          gmsh::option::setNumber("Mesh.MeshSizeFactor", 1);
+          gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+          gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
+          gmsh::option::setNumber("Mesh.ElementOrder", 1);
+          gmsh::option::setNumber("Mesh.RecombineAll", 0);
           gmsh::model::mesh::setSizeCallback(
             [&](int, int, double x, double y, double) {
               return size_at(x, y);
@@ -251,7 +257,7 @@ namespace Signorini
         if (!std::ifstream(path))
           throw InputError("Mesh/Geometry file: cannot open <" + path + ">");
         // read it now, so that a bad geometry is an input error
-        gmsh::initialize();
+        gmsh::initialize(0, nullptr, false);
         std::string error;
         try
           {
@@ -285,54 +291,67 @@ namespace Signorini
                             const Vector<double> &size_ratio,
                             Triangulation<dim>   &mesh) const
   {
-    check_geometry(input);
+    // (check_geometry() ran at input)
+    Assert(is_enabled && dim == 2, ExcInternalError());
     if constexpr (dim == 2)
       {
         const MPI_Comm communicator = MPI_COMM_WORLD;
         FlatMesh       flat;
+        // rank 0 meshes; a failure there is sent to every rank with the
+        // (empty) mesh, so that all stop together
+        std::string failure;
         if (Utilities::MPI::this_mpi_process(communicator) == 0)
-          {
-            // log of the size asked for at every vertex: the mean over its
-            // cells of log(r_E (4 |E| / sqrt 3)^(1/2))
-            std::vector<double>       log_size(mesh.n_vertices(), 0.);
-            std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
-            for (const auto &cell : mesh.active_cell_iterators())
-              {
-                const double size =
-                  size_ratio[cell->active_cell_index()] *
-                  std::sqrt(4. * cell->measure() / std::sqrt(3.));
+          try
+            {
+              // log of the size asked for at every vertex: the mean over its
+              // cells of log(r_E (4 |E| / sqrt 3)^(1/2))
+              std::vector<double>       log_size(mesh.n_vertices(), 0.);
+              std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
+              for (const auto &cell : mesh.active_cell_iterators())
+                {
+                  const double size =
+                    size_ratio[cell->active_cell_index()] *
+                    std::sqrt(4. * cell->measure() / std::sqrt(3.));
+                  for (const unsigned int v : cell->vertex_indices())
+                    {
+                      log_size[cell->vertex_index(v)] += std::log(size);
+                      ++n_cells[cell->vertex_index(v)];
+                    }
+                }
+              for (unsigned int v = 0; v < log_size.size(); ++v)
+                if (n_cells[v] > 0)
+                  {
+                    log_size[v] /= n_cells[v];
+                  }
+              const CellLocator<dim> locator(mesh);
+              const auto size_at = [&](const double x, const double y) {
+                // (outside the mesh, near a curved boundary: the nearest
+                // cell, without extrapolation)
+                const auto  location  = locator.locate(Point<dim>(x, y));
+                const auto &cell      = locator.cell(location.cell);
+                double      log_value = 0., weight_sum = 0.;
                 for (const unsigned int v : cell->vertex_indices())
                   {
-                    log_size[cell->vertex_index(v)] += std::log(size);
-                    ++n_cells[cell->vertex_index(v)];
+                    const double weight =
+                      std::clamp(location.weights[v], 0., 1.);
+                    log_value += weight * log_size[cell->vertex_index(v)];
+                    weight_sum += weight;
                   }
-              }
-            for (unsigned int v = 0; v < log_size.size(); ++v)
-              if (n_cells[v] > 0)
-                {
-                  log_size[v] /= n_cells[v];
-                }
-            const CellLocator<dim> locator(mesh);
-            const auto size_at = [&](const double x, const double y) {
-              // (outside the mesh, near a curved boundary: the nearest
-              // cell, without extrapolation)
-              const auto  location  = locator.locate(Point<dim>(x, y));
-              const auto &cell      = locator.cell(location.cell);
-              double      log_value = 0., weight_sum = 0.;
-              for (const unsigned int v : cell->vertex_indices())
-                {
-                  const double weight = std::clamp(location.weights[v], 0., 1.);
-                  log_value += weight * log_size[cell->vertex_index(v)];
-                  weight_sum += weight;
-                }
-              return std::exp(log_value / weight_sum);
-            };
-            flat =
-              mesh_with_gmsh(input.source == MeshInput<dim>::Source::block ?
-                               std::string() :
-                               input.path_of(input.geometry_file_name),
-                             size_at);
-          }
+                return std::exp(log_value / weight_sum);
+              };
+              flat =
+                mesh_with_gmsh(input.source == MeshInput<dim>::Source::block ?
+                                 std::string() :
+                                 input.path_of(input.geometry_file_name),
+                               size_at);
+            }
+          catch (const std::exception &exc)
+            {
+              failure = exc.what();
+            }
+        failure = Utilities::MPI::broadcast(communicator, failure);
+        if (!failure.empty())
+          throw std::runtime_error(failure);
         flat.coordinates =
           Utilities::MPI::broadcast(communicator, flat.coordinates);
         flat.triangles =

@@ -52,7 +52,6 @@ namespace Signorini
            const std::vector<int> &level_change,
            Triangulation<dim>     &mesh);
 
-    /// Per active cell of the computational mesh: its hierarchy level.
     /**
      * Take @p mesh (made elsewhere, e.g. by remeshing) as the initial mesh
      * of a new hierarchy: every cell at level 0, no green cells. Further
@@ -62,6 +61,7 @@ namespace Signorini
     void
     adopt(Triangulation<dim> &mesh);
 
+    /// Per active cell of the computational mesh: its hierarchy level.
     const std::vector<unsigned int> &
     levels() const;
 
@@ -78,6 +78,9 @@ namespace Signorini
     std::vector<unsigned int> hierarchy_cell_of; // active cell index
     std::vector<unsigned int> level_of;
     unsigned int              green_cells = 0;
+    /// Whether the hierarchy starts from the input's mesh (not adopt()ed),
+    /// as remesh() needs
+    bool from_input = true;
   };
 
   /// In 3D: throws an InputError (the green closure bisects triangles).
