@@ -342,6 +342,8 @@ namespace Signorini
       return;
     if (exact_solution.enabled())
       results.exact_error(exact_solution.error(computation));
+    if (!reference.enabled())
+      return;
     const Vector<double> u_hat = estimator.enabled() ?
                                    replicate(admissible_displacement) :
                                    Vector<double>();
@@ -358,8 +360,7 @@ namespace Signorini
           reference_not_finer(),
           estimator.enabled());
       }
-    if (reference.enabled() &&
-        reference.mesh() == ReferenceSolution<dim>::Mesh::final_mesh)
+    if (reference.mesh() == ReferenceSolution<dim>::Mesh::final_mesh)
       reference.keep(computation,
                      u_hat,
                      estimate.eps,
