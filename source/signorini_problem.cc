@@ -81,7 +81,11 @@ namespace Signorini
     size_predictor = SizePredictor::registry().create(prm, dim);
     adaptation_target.parse_parameters(prm);
     remesher.parse_parameters(prm);
-    remesher.check_geometry(mesh_input);
+    std::set<types::boundary_id> boundary_ids =
+      computation.boundary_conditions().used_boundary_ids();
+    for (const auto id : computation.contact_boundary().boundary_ids())
+      boundary_ids.insert(id);
+    remesher.check_geometry(mesh_input, boundary_ids);
     if (size_predictor->needs_target_error() && !adaptation_target.enabled())
       throw InputError("Mesh adaptation/Target error: the " +
                        size_predictor->name() +

@@ -88,6 +88,17 @@ end
 subsection Mesh adaptation
   set Realisation = remeshing
 end"
+sed 's/Physical Curve(2) = {1};/Physical Curve(7) = {1};/' \
+  "$src/tests/meshes/hertz-geometry.geo" > "$work/retagged.geo"
+case_prm "geometry without a boundary id in use" "no physical curve has the tag 2" \
+  "subsection Mesh
+  set Source = file
+  set File name = $src/tests/meshes/hertz-coarse.msh
+  set Geometry file = $work/retagged.geo
+end
+subsection Mesh adaptation
+  set Realisation = remeshing
+end"
 case_prm "missing mesh file" "cannot open mesh file" \
   "subsection Mesh
   set Source = file

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <gmsh.h>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 namespace Signorini
@@ -241,7 +242,9 @@ namespace Signorini
 
   template <int dim>
   void
-  GmshRemesher<dim>::check_geometry(const MeshInput<dim> &input) const
+  GmshRemesher<dim>::check_geometry(
+    const MeshInput<dim>               &input,
+    const std::set<types::boundary_id> &boundary_ids) const
   {
     if (!is_enabled)
       return;
@@ -263,10 +266,19 @@ namespace Signorini
           {
             gmsh::option::setNumber("General.Terminal", 0);
             gmsh::open(path);
-            gmsh::vectorpair surfaces;
+            gmsh::vectorpair surfaces, curves;
             gmsh::model::getEntities(surfaces, 2);
+            gmsh::model::getPhysicalGroups(curves, 1);
+            std::set<int> tags;
+            for (const auto &[curve_dim, tag] : curves)
+              tags.insert(tag);
             if (surfaces.empty())
               error = "it defines no surface to mesh";
+            for (const auto id : boundary_ids)
+              if (error.empty() && tags.count(id) == 0)
+                error = "no physical curve has the tag " + std::to_string(id) +
+                        ", a boundary id of the input (the remeshed mesh "
+                        "would lack it)";
           }
         catch (const std::string &message)
           {

@@ -9,6 +9,8 @@
 
 #include <signorini/mesh_input.h>
 
+#include <set>
+
 namespace Signorini
 {
   using namespace dealii;
@@ -50,9 +52,11 @@ namespace Signorini
     bool
     enabled() const;
 
-    /// Throws InputError if @p input has no geometry to remesh.
+    /// Throws InputError if @p input has no geometry to remesh, or if a
+    /// .geo lacks a physical curve for one of the @p boundary_ids in use.
     void
-    check_geometry(const MeshInput<dim> &input) const;
+    check_geometry(const MeshInput<dim>               &input,
+                   const std::set<types::boundary_id> &boundary_ids) const;
 
     /// The geometry of @p input meshed with the sizes r_E h_E of the cells
     /// of @p mesh (@p size_ratio per active cell), written into @p mesh.
