@@ -69,7 +69,7 @@ namespace Signorini
                     Triangulation<dim>::none,
                     /*allow_artificial_cells=*/false,
                     parallel::shared::Triangulation<dim>::partition_metis)
-    , computation(prm, timer)
+    , computation(prm, timer) // parses the model's sections first
   {
     n_cycles  = prm.get_integer("Number of cycles");
     max_cells = prm.get_double("Maximum cells");
