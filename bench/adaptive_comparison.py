@@ -20,14 +20,13 @@ import argparse
 import csv
 import math
 import os
-import subprocess
 import sys
 import tempfile
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from block_run import run_block  # noqa: E402
 
 TARGET = 0.02
 STRATEGIES = {
@@ -48,11 +47,7 @@ FIGURES = "optimal size, remeshing"
 
 
 def run(build, strategy, condition, directory, vtu):
-    with open(os.path.join(ROOT, "prm", "block-adaptive.prm")) as f:
-        text = f.read()
-    text += f"""
-set Output directory = {directory}
-set Number of cycles = {MAX_COMPUTATIONS[strategy]}
+    additions = f"""set Number of cycles = {MAX_COMPUTATIONS[strategy]}
 subsection Contact
   set Condition = {condition}
 end
@@ -65,22 +60,13 @@ subsection Output
 end
 """
     if strategy.startswith("optimal size"):
-        # exact errors against the last mesh refined twice (1.5M triangles)
-        text += """
-subsection Reference solution
+        # exact errors against the last mesh refined twice
+        additions += """subsection Reference solution
   set Extra refinements = 2
   set Mesh = final mesh
 end
 """
-    prm = directory + ".prm"
-    with open(prm, "w") as f:
-        f.write(text)
-    start = time.perf_counter()
-    subprocess.run([os.path.join(build, "signorini"), prm], check=True,
-                   stdout=subprocess.DEVNULL)
-    seconds = time.perf_counter() - start
-    with open(os.path.join(directory, "statistics.csv")) as f:
-        return list(csv.DictReader(f)), seconds
+    return run_block(build, directory, additions)
 
 
 def cells_at_target(rows):

@@ -14,15 +14,15 @@ run, stopped at that computation and without the reference, is timed
 Usage: /usr/bin/python3 bench/equal_accuracy.py [--build build] [--repeat 3]
 """
 import argparse
-import csv
 import os
 import statistics
-import subprocess
+import sys
 import tempfile
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from block_run import run_block  # noqa: E402
 GOAL = 0.01
 
 # (name, Mesh adaptation settings, largest number of computations, reference)
@@ -41,11 +41,7 @@ STRATEGIES = [
 
 
 def run(build, settings, computations, reference, directory):
-    with open(os.path.join(ROOT, "prm", "block-adaptive.prm")) as f:
-        text = f.read()
-    text += f"""
-set Output directory = {directory}
-set Number of cycles = {computations}
+    additions = f"""set Number of cycles = {computations}
 subsection Mesh adaptation
   {settings}
 end
@@ -55,21 +51,12 @@ subsection Output
 end
 """
     if reference:
-        text += f"""
-subsection Reference solution
+        additions += f"""subsection Reference solution
   set Extra refinements = 2
   set Mesh = {reference}
 end
 """
-    prm = directory + ".prm"
-    with open(prm, "w") as f:
-        f.write(text)
-    start = time.perf_counter()
-    subprocess.run([os.path.join(build, "signorini"), prm], check=True,
-                   stdout=subprocess.DEVNULL)
-    seconds = time.perf_counter() - start
-    with open(os.path.join(directory, "statistics.csv")) as f:
-        return list(csv.DictReader(f)), seconds
+    return run_block(build, directory, additions)
 
 
 def main():

@@ -61,44 +61,33 @@ case_prm "Dimension = 4" "Dimension: The entry value 4" "set Dimension = 4"
 case_prm "Dimension = 3 with 2D data" "Dimension = 3: Boundary conditions/Dirichlet 1: invalid function" \
   "set Dimension = 3"
 
-case_prm "remeshing a mesh file" "Mesh adaptation/Realisation = remeshing needs the geometry" \
-  "subsection Mesh
+# remeshing_case NAME EXPECTED MESH [GEOMETRY]: the block example remeshed
+# from the Gmsh file MESH with the .geo GEOMETRY (none if not given)
+remeshing_case() {
+  local geometry=""
+  [ $# -ge 4 ] && geometry="
+  set Geometry file = $4"
+  case_prm "$1" "$2" "subsection Mesh
   set Source = file
-  set File name = $src/tests/meshes/square-22.msh
+  set File name = $3$geometry
 end
 subsection Mesh adaptation
   set Realisation = remeshing
 end"
-case_prm "missing geometry file" "Mesh/Geometry file: cannot open" \
-  "subsection Mesh
-  set Source = file
-  set File name = $src/tests/meshes/square-22.msh
-  set Geometry file = no-such-file.geo
-end
-subsection Mesh adaptation
-  set Realisation = remeshing
-end"
+}
+square="$src/tests/meshes/square-22.msh"
+remeshing_case "remeshing a mesh file" \
+  "Mesh adaptation/Realisation = remeshing needs the geometry" "$square"
+remeshing_case "missing geometry file" "Mesh/Geometry file: cannot open" \
+  "$square" no-such-file.geo
 printf 'this is not a geometry\n' > "$work/garbage.geo"
-case_prm "unreadable geometry file" "Mesh/Geometry file: .*syntax error" \
-  "subsection Mesh
-  set Source = file
-  set File name = $src/tests/meshes/square-22.msh
-  set Geometry file = $work/garbage.geo
-end
-subsection Mesh adaptation
-  set Realisation = remeshing
-end"
+remeshing_case "unreadable geometry file" \
+  "Mesh/Geometry file: .*syntax error" "$square" "$work/garbage.geo"
 sed 's/Physical Curve(2) = {1};/Physical Curve(7) = {1};/' \
   "$src/tests/meshes/hertz-geometry.geo" > "$work/retagged.geo"
-case_prm "geometry without a boundary id in use" "no physical curve has the tag 2" \
-  "subsection Mesh
-  set Source = file
-  set File name = $src/tests/meshes/hertz-coarse.msh
-  set Geometry file = $work/retagged.geo
-end
-subsection Mesh adaptation
-  set Realisation = remeshing
-end"
+remeshing_case "geometry without a boundary id in use" \
+  "no physical curve has the tag 2" "$src/tests/meshes/hertz-coarse.msh" \
+  "$work/retagged.geo"
 case_prm "missing mesh file" "cannot open mesh file" \
   "subsection Mesh
   set Source = file

@@ -187,7 +187,6 @@ namespace Signorini
     ConstitutiveRelationError<dim>                  estimator;
     typename ConstitutiveRelationError<dim>::Result estimate;
     LA::Vector                                      admissible_displacement;
-    double                                          estimate_seconds = 0.;
     /// Whether the current computation has an error estimate (the
     /// estimator is enabled and the computation did not fail).
     bool estimated = false;
