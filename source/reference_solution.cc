@@ -1,5 +1,9 @@
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
 
+#include <deal.II/fe/fe_values.h>
+
+#include <signorini/cell_locator.h>
 #include <signorini/nodal_interpolation.h>
 #include <signorini/reference_solution.h>
 #include <signorini/registry.h>
@@ -175,6 +179,20 @@ namespace Signorini
                                   const double           eps,
                                   const double           e) const
   {
+    return comparison(dof_handler, u_h, u_hat, eps, e, /*with_local=*/true);
+  }
+
+
+
+  template <int dim>
+  typename ReferenceSolution<dim>::Comparison
+  ReferenceSolution<dim>::comparison(const DoFHandler<dim> &dof_handler,
+                                     const Vector<double>  &u_h,
+                                     const Vector<double>  &u_hat,
+                                     const double           eps,
+                                     const double           e,
+                                     const bool             with_local) const
+  {
     // the fields on the reference mesh: exact where it refines the mesh of
     // the computation (uniform cycles), nodal interpolation across the green
     // edges of an adapted mesh
@@ -195,8 +213,15 @@ namespace Signorini
     LA::Vector       difference(u_ref), sum(u_ref);
     difference -= u_h_fine;
     sum += u_h_fine;
-    Comparison result;
-    result.eps_ex = norm(difference) / norm(sum);
+    Comparison   result;
+    const double denominator = norm(sum);
+    result.eps_ex            = norm(difference) / denominator;
+    if (with_local)
+      {
+        result.local = local_energies(dof_handler, difference);
+        for (double &value : result.local)
+          value = std::sqrt(value) / denominator;
+      }
     if (u_hat.size() > 0)
       {
         LA::Vector error_hat(u_ref);
@@ -205,6 +230,43 @@ namespace Signorini
         result.prager_synge_ratio = norm(error_hat) / e;
       }
     return result;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  ReferenceSolution<dim>::local_energies(const DoFHandler<dim> &dof_handler,
+                                         const LA::Vector &difference) const
+  {
+    // P1 on straight cells: a constant strain per reference cell, so one
+    // point integrates a(e, e) = int sigma(e) : eps(e) exactly, as the
+    // stiffness matrix of the global norm does
+    const Vector<double>             e = replicate(difference);
+    const CellLocator<dim>           locator(dof_handler.get_triangulation());
+    const QGaussSimplex<dim>         quadrature(1);
+    FEValues<dim>                    fe_values(reference->mapping(),
+                            reference->finite_element(),
+                            quadrature,
+                            update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector displacement(0);
+    std::vector<SymmetricTensor<2, dim>> strain(quadrature.size());
+    const LinearElasticMaterial<dim>    &material = reference->material();
+    Vector<double> energies(dof_handler.get_triangulation().n_active_cells());
+    // every cell on every rank (the whole mesh is on each), in one order
+    for (const auto &cell : reference->dof_handler().active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        fe_values[displacement].get_function_symmetric_gradients(e, strain);
+        double energy = 0.;
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          energy += (material.stress(strain[q]) * strain[q]) * fe_values.JxW(q);
+        const auto location = locator.locate(cell->center());
+        AssertThrow(location.found,
+                    ExcMessage("the computational mesh has no cells"));
+        energies[location.cell] += energy;
+      }
+    return energies;
   }
 
 
@@ -253,11 +315,12 @@ namespace Signorini
   {
     std::vector<Comparison> comparisons;
     for (const auto &computation : computations)
-      comparisons.push_back(compare(computation->dof_handler,
-                                    computation->displacement,
-                                    computation->admissible_displacement,
-                                    computation->eps,
-                                    computation->e));
+      comparisons.push_back(comparison(computation->dof_handler,
+                                       computation->displacement,
+                                       computation->admissible_displacement,
+                                       computation->eps,
+                                       computation->e,
+                                       /*with_local=*/false));
     return comparisons;
   }
 

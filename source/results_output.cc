@@ -16,6 +16,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -298,6 +299,11 @@ namespace Signorini
     const bool                                         with_estimate)
   {
     statistics_table.add_value("eps_ex", comparison.eps_ex);
+    // a coarser reference leaves cells without reference cells: no field
+    if (underestimated)
+      local_exact_error.reinit(0);
+    else
+      local_exact_error = comparison.local;
     pcout << "   exact error (reference " << reference_dofs
           << " DoFs): eps_ex = " << std::setprecision(4)
           << 100. * comparison.eps_ex << " %";
@@ -430,7 +436,11 @@ namespace Signorini
     statistics_table.end_row();
     write_statistics();
     if (with_vtu)
-      write_vtu(cycle, computation, eps_E);
+      write_vtu(cycle,
+                computation,
+                eps_E,
+                local_exact_error.size() > 0 ? &local_exact_error : nullptr);
+    local_exact_error.reinit(0);
   }
 
 
@@ -439,7 +449,8 @@ namespace Signorini
   void
   ResultsOutput<dim>::write_vtu(const unsigned int             cycle,
                                 const ContactComputation<dim> &computation,
-                                const Vector<double>          *eps_E)
+                                const Vector<double>          *eps_E,
+                                const Vector<double>          *eps_ex_E)
   {
     const bool             root        = pcout.is_active();
     const DoFHandler<dim> &dof_handler = computation.dof_handler();
@@ -489,6 +500,28 @@ namespace Signorini
         eps_E_field =
           std::make_unique<CellDataPostprocessor<dim>>("eps_E", *eps_E);
         data_out.add_data_vector(dof_handler, ghosted, *eps_E_field);
+      }
+    // the exact error per cell next to eps_E, and their ratio
+    Vector<double>                              local_effectivity;
+    std::unique_ptr<CellDataPostprocessor<dim>> eps_ex_E_field;
+    std::unique_ptr<CellDataPostprocessor<dim>> effectivity_field;
+    if (eps_ex_E != nullptr)
+      {
+        eps_ex_E_field =
+          std::make_unique<CellDataPostprocessor<dim>>("eps_ex_E", *eps_ex_E);
+        data_out.add_data_vector(dof_handler, ghosted, *eps_ex_E_field);
+        if (eps_E != nullptr)
+          {
+            local_effectivity.reinit(eps_E->size());
+            for (unsigned int E = 0; E < eps_E->size(); ++E)
+              local_effectivity[E] = (*eps_ex_E)[E] > 0. ?
+                                       (*eps_E)[E] / (*eps_ex_E)[E] :
+                                       std::numeric_limits<double>::quiet_NaN();
+            effectivity_field =
+              std::make_unique<CellDataPostprocessor<dim>>("local_effectivity",
+                                                           local_effectivity);
+            data_out.add_data_vector(dof_handler, ghosted, *effectivity_field);
+          }
       }
     data_out.build_patches(computation.mapping());
     // one file serially; with N ranks a piece per rank and a .pvtu record

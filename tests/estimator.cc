@@ -1,14 +1,21 @@
 // The error in constitutive relation (paper sections 3 and 5, [8]-[14];
 // doc/theory.md section 7) on the block, both conditions, two meshes against
 // a reference two levels finer than the finest, and on the manufactured
-// solution without contact, with both stress reconstructions:
-// - star patch (the default): the effectivity index is in [1, 2] on every
-//   mesh, the patch problems are solved with data in equilibrium and the
-//   FE equilibrium R(phi_i) = 0 they rely on holds, to round-off;
-// - element equilibration: the element data of the local problems are in
-//   equilibrium (resultant and moment) and satisfy the prolongation
-//   condition, to round-off (its effectivity is printed; measured values in
-//   doc/estimator.md);
+// solution without contact, with the stress reconstructions:
+// - the default (element equilibration with enhanced densities and
+//   Johnson-Mercier element fields): the element fields are in exact
+//   equilibrium with their data (to round-off when the body force is
+//   constant per element), the classical densities the enhancement starts
+//   from satisfy the prolongation condition, and the effectivity is in
+//   [1, 1.3] on the block and [1, 1.15] on the manufactured solution;
+// - the paper's element equilibration (least squares densities, element
+//   displacement problems): equilibrium and prolongation condition to
+//   round-off (its effectivity is printed; measured values in
+//   doc/estimator.md); likewise the enhanced densities with displacement
+//   element problems;
+// - star patch: the effectivity index is in [1, 2] on every mesh, the patch
+//   problems are solved with data in equilibrium and the FE equilibrium
+//   R(phi_i) = 0 they rely on holds, to round-off;
 // - sum_E eps_E^2 = eps^2 [11] to round-off;
 // - the contact term is non-negative on every element (the number of
 //   elements where it is non-zero is compared with the reference output);
@@ -48,6 +55,59 @@ namespace
     return e;
   }
 
+  /// A reconstruction to test: its name in the output, its parameters and
+  /// the effectivity range it must meet on the block and the manufactured
+  /// solution (none: printed only).
+  struct Reconstruction
+  {
+    std::string                        label;
+    std::map<std::string, std::string> parameters;
+    std::pair<double, double>          block_range;
+    std::pair<double, double>          manufactured_range;
+  };
+
+  const std::vector<Reconstruction> &
+  reconstructions()
+  {
+    static const std::string eet = "Error estimator/Element equilibration/";
+    static const std::pair<double, double>   none = {0., 1e300};
+    static const std::vector<Reconstruction> list = {
+      {"default (enhanced densities, equilibrated element fields)",
+       {},
+       {1., 1.3},
+       {1., 1.15}},
+      {"element equilibration, least squares densities, displacement fields",
+       {{"Error estimator/Stress reconstruction", "element equilibration"},
+        {eet + "Traction densities", "least squares"},
+        {eet + "Element stress", "displacement"}},
+       none,
+       none},
+      {"element equilibration, enhanced densities, displacement fields",
+       {{"Error estimator/Stress reconstruction", "element equilibration"},
+        {eet + "Element stress", "displacement"}},
+       none,
+       none},
+      {"star patch",
+       {{"Error estimator/Stress reconstruction", "star patch"}},
+       {1., 2.},
+       {1., 2.}}};
+    return list;
+  }
+
+  void
+  expect_within(const std::pair<double, double> &range,
+                const double                     theta,
+                unsigned int                    &failures)
+  {
+    if (range.second > 1e299)
+      return;
+    expect_below("effectivity <= " + std::to_string(range.second).substr(0, 4),
+                 theta,
+                 range.second,
+                 failures);
+    expect_below("effectivity >= 1", range.first / theta, 1., failures);
+  }
+
   double
   slope(const std::vector<double> &cells, const std::vector<double> &values)
   {
@@ -72,19 +132,17 @@ main(int argc, char **argv)
   initlog();
   unsigned int failures = 0;
 
-  for (const std::string reconstruction :
-       {"star patch", "element equilibration"})
+  for (const Reconstruction &reconstruction : reconstructions())
     for (const std::string condition : {"integral", "pointwise"})
       {
         deallog << "--- block, " << condition << " condition, "
-                << reconstruction << std::endl;
-        const Estimate e =
-          estimate("block.prm",
-                   {{"Number of cycles", "2"},
-                    {"Contact/Condition", condition},
-                    {"Error estimator/Stress reconstruction", reconstruction},
-                    {"Reference solution/Extra refinements", "2"}});
-        const auto &r = e.result;
+                << reconstruction.label << std::endl;
+        auto overrides = reconstruction.parameters;
+        overrides.insert({{"Number of cycles", "2"},
+                          {"Contact/Condition", condition},
+                          {"Reference solution/Extra refinements", "2"}});
+        const Estimate e = estimate("block.prm", overrides);
+        const auto    &r = e.result;
         for (unsigned int i = 0; i < e.history.at("cells").size(); ++i)
           deallog << "cells "
                   << static_cast<unsigned int>(e.history.at("cells")[i])
@@ -92,7 +150,7 @@ main(int argc, char **argv)
                   << ", eps_ex " << e.history.at("eps_ex")[i]
                   << ", effectivity " << e.history.at("effectivity")[i]
                   << std::endl;
-        const bool star = reconstruction == "star patch";
+        const bool star = reconstruction.label == "star patch";
         expect_below(star ? "equilibrium of the patch data" :
                             "equilibrium of the element data",
                      r.equilibrium_defect,
@@ -103,12 +161,8 @@ main(int argc, char **argv)
                      r.condition_defect,
                      1e-10,
                      failures);
-        if (star)
-          for (const double theta : e.history.at("effectivity"))
-            {
-              expect_below("effectivity <= 2", theta, 2., failures);
-              expect_below("effectivity >= 1", 1. / theta, 1., failures);
-            }
+        for (const double theta : e.history.at("effectivity"))
+          expect_within(reconstruction.block_range, theta, failures);
         double sum = 0.;
         for (const double eps_E : r.local)
           sum += eps_E * eps_E;
@@ -137,15 +191,13 @@ main(int argc, char **argv)
           failures);
       }
 
-  for (const std::string reconstruction :
-       {"star patch", "element equilibration"})
+  for (const Reconstruction &reconstruction : reconstructions())
     {
-      deallog << "--- manufactured solution, no contact, " << reconstruction
-              << std::endl;
-      const Estimate m =
-        estimate("manufactured.prm",
-                 {{"Number of cycles", "4"},
-                  {"Error estimator/Stress reconstruction", reconstruction}});
+      deallog << "--- manufactured solution, no contact, "
+              << reconstruction.label << std::endl;
+      auto overrides = reconstruction.parameters;
+      overrides.insert({"Number of cycles", "4"});
+      const Estimate m = estimate("manufactured.prm", overrides);
       for (unsigned int i = 0; i < m.history.at("cells").size(); ++i)
         deallog << "cells "
                 << static_cast<unsigned int>(m.history.at("cells")[i]) << ": e "
@@ -163,18 +215,20 @@ main(int argc, char **argv)
                    std::abs(rate_e - rate_exact),
                    0.1,
                    failures);
-      expect_below("equilibrium of the local data",
+      // the Johnson-Mercier fields balance the mean of the body force on
+      // each element: round-off only for a body force constant per element,
+      // here O(h^2)
+      const bool equilibrated = reconstruction.parameters.empty();
+      expect_below(equilibrated ? "equilibrium of the local data (mean body "
+                                  "force, 6144 cells)" :
+                                  "equilibrium of the local data",
                    m.result.equilibrium_defect,
-                   1e-10,
+                   equilibrated ? 1e-3 : 1e-10,
                    failures);
-      if (reconstruction == "star patch")
-        for (unsigned int i = 0; i < m.history.at("cells").size(); ++i)
-          {
-            const double theta =
-              m.history.at("e")[i] / m.history.at("energy_error")[i];
-            expect_below("effectivity <= 2", theta, 2., failures);
-            expect_below("effectivity >= 1", 1. / theta, 1., failures);
-          }
+      for (unsigned int i = 0; i < m.history.at("cells").size(); ++i)
+        expect_within(reconstruction.manufactured_range,
+                      m.history.at("e")[i] / m.history.at("energy_error")[i],
+                      failures);
     }
   return failures == 0 ? 0 : 1;
 }

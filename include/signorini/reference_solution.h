@@ -14,6 +14,7 @@
 
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/contact_computation.h>
+#include <signorini/linear_algebra.h>
 #include <signorini/mesh_input.h>
 
 #include <memory>
@@ -48,6 +49,11 @@ namespace Signorini
       double eps_ex             = 0.; ///< ||U_ref - U_h|| / ||U_ref + U_h||
       double effectivity        = 0.; ///< eps / eps_ex
       double prager_synge_ratio = 0.; ///< ||U_ref - U^|| / e
+      /// eps_ex,E = ||U_ref - U_h||_E / ||U_ref + U_h|| per active cell E of
+      /// the computation's mesh (the global denominator, as eps_E: the sum
+      /// of the squares is eps_ex^2); filled by compare(), empty from
+      /// compare_kept()
+      Vector<double> local;
     };
 
     static void
@@ -93,8 +99,28 @@ namespace Signorini
     unsigned int
     level() const;
 
-    /// Compare (U_h, U^) of a computation on @p dof_handler with the
-    /// reference (no U^: an empty @p u_hat, then only eps_ex).
+    /**
+     * Compare (U_h, U^) of a computation on @p dof_handler with the
+     * reference (no U^: an empty @p u_hat, then only eps_ex), and split
+     * eps_ex^2 over the cells of the computation (Comparison::local).
+     *
+     * The split: the energy of U_ref - U_h on each reference cell (U_h
+     * interpolated at the reference's vertices, as for eps_ex) goes to the
+     * computational cell that contains the reference cell's centre, found
+     * by point location (CellLocator). The hierarchy cannot be used: every
+     * computational mesh is a flat triangulation (AdaptiveMesh builds the
+     * conforming mesh anew, Gmsh remeshes), and a reference on the initial
+     * mesh is another flat mesh, so no reference cell has a computational
+     * cell as ancestor (only a final-mesh reference, a refined copy of the
+     * last mesh, shares the hierarchy, and compare_kept() does not split).
+     * Where the reference refines the computational mesh (uniform cycles)
+     * every reference cell lies in one computational cell and the split is
+     * exact; across the green edges of an adapted mesh or a remeshed mesh,
+     * a reference cell the edge crosses goes whole to one side. Every rank
+     * holds both meshes and splits every reference cell in the same order:
+     * the same split on any number of ranks (the values differ only as
+     * U_ref does, by the round-off of its solve).
+     */
     Comparison
     compare(const DoFHandler<dim> &dof_handler,
             const Vector<double>  &u_h,
@@ -115,6 +141,21 @@ namespace Signorini
     compare_kept() const;
 
   private:
+    /// compare(), with or without the split of eps_ex over the cells.
+    Comparison
+    comparison(const DoFHandler<dim> &dof_handler,
+               const Vector<double>  &u_h,
+               const Vector<double>  &u_hat,
+               const double           eps,
+               const double           e,
+               const bool             with_local) const;
+
+    /// ||@p difference||_E^2 (on the reference) per active cell E of the
+    /// mesh of @p dof_handler, see compare().
+    Vector<double>
+    local_energies(const DoFHandler<dim> &dof_handler,
+                   const LA::Vector      &difference) const;
+
     unsigned int extra_levels = 0;
     Mesh         mesh_choice  = Mesh::initial_mesh;
 

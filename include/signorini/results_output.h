@@ -6,6 +6,8 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <deal.II/lac/vector.h>
+
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/adaptation/size_predictor.h>
 #include <signorini/contact_computation.h>
@@ -36,6 +38,25 @@ namespace Signorini
    * comparison with a reference solved after the computations fills in the
    * rows of earlier computations, and the file is CSV for spreadsheets and
    * scripts.
+   *
+   * The local exact error: with a reference solved before the computations
+   * (Reference solution/Mesh = initial mesh), the VTU of each computation
+   * also has the cell fields eps_ex_E (ReferenceSolution::Comparison::local,
+   * normalised as eps_E) and local_effectivity = eps_E / eps_ex_E (NaN
+   * where eps_ex_E = 0), unless that reference is not finer than the mesh
+   * everywhere (then some cells would hold no reference cell).
+   *
+   * A reference on the final mesh is solved after the loop, when every VTU,
+   * the last one included, has been written: no VTU gets these fields. The
+   * statistics table may be rewritten (it is one table whose rows are
+   * filled in); a computation's VTU is not: write() produces the files of a
+   * computation when its cycle ends, before the next step can fail, and
+   * solution.pvd lists them as they are. Adding the fields to the last VTU
+   * would mean either rewriting it after the reference solve (a listed
+   * file that changes later, or stays without them if the reference
+   * fails) or holding it back until then (a failed reference would leave
+   * the last computation without its file). For local exact errors, use
+   * the initial-mesh reference.
    */
   template <int dim>
   class ResultsOutput
@@ -106,7 +127,8 @@ namespace Signorini
     exact_error(const typename ExactSolution<dim>::Error &error);
 
     /// The computation against a reference of @p reference_dofs DoFs that
-    /// may not be finer than its mesh everywhere (@p underestimated).
+    /// may not be finer than its mesh everywhere (@p underestimated); keeps
+    /// its local exact errors (if finer) for the VTU of write().
     void
     reference_comparison(
       const typename ReferenceSolution<dim>::Comparison &comparison,
@@ -128,7 +150,9 @@ namespace Signorini
 
     /// Close the statistics row of computation @p cycle and write its
     /// files: statistics.csv, contact-CC.csv and, if enabled, the VTU with
-    /// the displacement, stresses, contact fields and @p eps_E (if given).
+    /// the displacement, stresses, contact fields, @p eps_E (if given) and
+    /// the local exact errors of reference_comparison() (if called for this
+    /// computation).
     void
     write(const unsigned int             cycle,
           const ContactComputation<dim> &computation,
@@ -145,7 +169,8 @@ namespace Signorini
     void
     write_vtu(const unsigned int             cycle,
               const ContactComputation<dim> &computation,
-              const Vector<double>          *eps_E);
+              const Vector<double>          *eps_E,
+              const Vector<double>          *eps_ex_E);
 
     MPI_Comm           mpi_communicator;
     ConditionalOStream pcout;
@@ -154,6 +179,9 @@ namespace Signorini
     bool               with_timing = true;
     OutputDirectory    output_files;
     CsvTable           statistics_table;
+    /// eps_ex,E of the current computation (reference_comparison()), empty
+    /// if there is none; write() consumes it
+    Vector<double> local_exact_error;
     /// (cycle, file) of the VTU files written, for solution.pvd
     std::vector<std::pair<double, std::string>> vtu_files;
   };

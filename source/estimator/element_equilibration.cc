@@ -10,7 +10,9 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <signorini/estimator/density_enhancement.h>
 #include <signorini/estimator/element_equilibration.h>
+#include <signorini/estimator/johnson_mercier_element.h>
 #include <signorini/estimator/local_loops.h>
 #include <signorini/estimator/vertex_patches.h>
 #include <signorini/input_error.h>
@@ -1252,6 +1254,386 @@ namespace Signorini
 
 
 
+    /// The nodal values (@p values: &EdgeData::density or ::projection) of
+    /// the edges of the needed cells as density slots (DensityEnhancement),
+    /// with @p computed_only only those at the vertices whose patch this
+    /// rank computes (zero elsewhere).
+    std::vector<double>
+    to_slots(const VertexPatches         &patches,
+             const DensityEnhancement    &enhancement,
+             const std::vector<EdgeData> &edges,
+             std::array<Tensor<1, 2>, 2> EdgeData::*values,
+             const bool                             computed_only)
+    {
+      std::vector<double> slots(4 * edges.size(), 0.);
+      for (unsigned int edge = 0; edge < edges.size(); ++edge)
+        if (patches.cells_of_edge(edge)[0] != numbers::invalid_unsigned_int)
+          {
+            // the EdgeData values are the tractions on the first cell
+            const double sign =
+              enhancement.sign(edge, patches.cells_of_edge(edge)[0]);
+            for (unsigned int end = 0; end < 2; ++end)
+              if (!computed_only ||
+                  patches.computes_patch(edges[edge].vertices[end]))
+                for (unsigned int c = 0; c < 2; ++c)
+                  slots[DensityEnhancement::slot(edge, end, c)] =
+                    sign * (edges[edge].*values)[end][c];
+          }
+      return slots;
+    }
+
+
+
+    /// The inverse of to_slots() (all ends).
+    template <typename Slots>
+    void
+    from_slots(const VertexPatches        &patches,
+               const DensityEnhancement   &enhancement,
+               const Slots                &slots,
+               std::array<Tensor<1, 2>, 2> EdgeData::*values,
+               std::vector<EdgeData>                 &edges)
+    {
+      for (unsigned int edge = 0; edge < edges.size(); ++edge)
+        if (patches.cells_of_edge(edge)[0] != numbers::invalid_unsigned_int)
+          {
+            const double sign =
+              enhancement.sign(edge, patches.cells_of_edge(edge)[0]);
+            for (unsigned int end = 0; end < 2; ++end)
+              for (unsigned int c = 0; c < 2; ++c)
+                (edges[edge].*values)[end][c] =
+                  sign * slots[DensityEnhancement::slot(edge, end, c)];
+          }
+    }
+
+
+
+    /**
+     * Under MPI a rank has the projections b_G(i) only at the vertices i of
+     * its patches; the enhancement needs the densities of every edge of the
+     * needed cells. Each projection is taken from the rank that computes
+     * the patch of its vertex and summed over the ranks.
+     */
+    void
+    gather_projections(const VertexPatches      &patches,
+                       const DensityEnhancement &enhancement,
+                       const MPI_Comm            communicator,
+                       std::vector<EdgeData>    &edges)
+    {
+      const std::vector<double> slots =
+        to_slots(patches, enhancement, edges, &EdgeData::projection, true);
+      std::vector<double> sum(slots.size());
+      Utilities::MPI::sum(make_array_view(slots),
+                          communicator,
+                          make_array_view(sum));
+      from_slots(patches, enhancement, sum, &EdgeData::projection, edges);
+    }
+
+
+
+    /**
+     * The quadratic of the error of the element problem of @p cell in the
+     * density slots of its edges: v_E = A^-1 (l + B F), w_E = v_E - U^_E,
+     * J_E = 1/2 w_E^T A w_E has the gradient B^T w_E and the Hessian
+     * B^T A^-1 B.
+     */
+    DensityEnhancement::ElementQuadratic
+    element_problem_quadratic(const ElementProblems    &problems,
+                              const VertexPatches      &patches,
+                              const DensityEnhancement &enhancement,
+                              const DoFHandler<2>::active_cell_iterator &cell)
+    {
+      const unsigned int       index    = cell->active_cell_index();
+      const ElementGeometry    geometry = problems.geometry(cell);
+      LAPACKFullMatrix<double> stiffness =
+        problems.factorised(problems.stiffness(geometry));
+      Vector<double> error_field = problems.load(cell, geometry);
+      stiffness.solve(error_field);
+      error_field -= problems.admissible_coefficients(index, geometry);
+
+      const unsigned int          n = problems.size();
+      std::vector<Vector<double>> load(12, Vector<double>(n));
+      for (unsigned int e = 0; e < 3; ++e)
+        {
+          const unsigned int edge = patches.edges(index)[e];
+          const double       sign =
+            enhancement.sign(edge, patches.cells_of_edge(edge)[0]);
+          for (unsigned int j = 0; j < 4; ++j)
+            {
+              std::array<Tensor<1, 2>, 2> density;
+              density[j / 2][j % 2] = sign;
+              problems.add_edge_load(index,
+                                     geometry,
+                                     edge,
+                                     density,
+                                     load[4 * e + j],
+                                     nullptr,
+                                     nullptr);
+            }
+        }
+      DensityEnhancement::ElementQuadratic quadratic;
+      quadratic.hessian.reinit(12, 12);
+      quadratic.gradient.reinit(12);
+      for (unsigned int a = 0; a < 12; ++a)
+        {
+          Vector<double> response = load[a];
+          stiffness.solve(response);
+          quadratic.gradient[a] = load[a] * error_field;
+          for (unsigned int b = 0; b < 12; ++b)
+            quadratic.hessian(b, a) = load[b] * response;
+        }
+      return quadratic;
+    }
+
+
+
+    /**
+     * Step 2 with "Element stress = equilibrated": sigma^ on each element is
+     * the Johnson-Mercier field of its data (JohnsonMercierElement), a
+     * piecewise linear stress on the centroid split in exact equilibrium
+     * with the traction densities and the body force, when the body force
+     * is constant on the element (otherwise with its mean, and the
+     * equilibrium defect shows the difference).
+     */
+    class EquilibratedElements
+    {
+    public:
+      /// The fields of the elements, with the data of @p problems.
+      EquilibratedElements(const EquilibrationInput<2> &input,
+                           const VertexPatches         &patches,
+                           const CellQuantities        &cells,
+                           const std::vector<EdgeData> &edges)
+        : element(JohnsonMercierElement::compliance_matrix(input.material))
+        , input(input)
+        , patches(patches)
+        , cells(cells)
+        , edges(edges)
+      {}
+
+      /// What one element gives: its maps, data and field.
+      struct Field
+      {
+        /// The maps of the element.
+        JohnsonMercierElement::Response response;
+        /// The vertices, in the cell's order.
+        std::array<Point<2>, 3> vertices;
+        /// The tractions on the element (JohnsonMercierElement's order).
+        Vector<double> traction;
+        /// The (mean) body force.
+        Tensor<1, 2> body_force;
+        /// sigma^ minus K eps(U^), as coefficients.
+        Vector<double> error;
+        /// sigma^ plus K eps(U^), as coefficients.
+        Vector<double> sum;
+        /// The relative defect of its constraints.
+        double defect = 0.;
+      };
+
+      /// The field of a needed cell at the current densities.
+      Field
+      field(const DoFHandler<2>::active_cell_iterator &cell) const
+      {
+        const unsigned int index = cell->active_cell_index();
+        Field              result;
+        for (const unsigned int v : cell->vertex_indices())
+          result.vertices[v] = cell->vertex(v);
+        result.response = element.response(result.vertices);
+        result.traction.reinit(12);
+        for (unsigned int e = 0; e < 3; ++e)
+          {
+            const unsigned int edge = patches.edges(index)[e];
+            const double       sign = orientation(patches, edge, index);
+            for (unsigned int k = 0; k < 2; ++k)
+              for (unsigned int c = 0; c < 2; ++c)
+                result
+                  .traction[JohnsonMercierElement::traction_index(e, k, c)] =
+                  sign * edges[edge].density[end_of(index, e, k)][c];
+          }
+        if (cells.body_force_present)
+          {
+            const QGaussSimplex<2>      rule(4);
+            const AffineTriangle        map(cell);
+            std::vector<Point<2>>       points(rule.size());
+            std::vector<Vector<double>> force(rule.size(), Vector<double>(2));
+            for (unsigned int q = 0; q < rule.size(); ++q)
+              points[q] = map.origin + map.jacobian * rule.point(q);
+            input.boundary_conditions.body_force->vector_value_list(points,
+                                                                    force);
+            for (unsigned int q = 0; q < rule.size(); ++q)
+              for (unsigned int c = 0; c < 2; ++c)
+                result.body_force[c] += 2. * rule.weight(q) * force[q][c];
+          }
+        Vector<double> coefficients(JohnsonMercierElement::n_coefficients);
+        result.response.stress_of_traction.vmult(coefficients, result.traction);
+        for (unsigned int c = 0; c < 2; ++c)
+          for (unsigned int i = 0; i < coefficients.size(); ++i)
+            coefficients[i] +=
+              result.response.stress_of_body_force(i, c) * result.body_force[c];
+        result.defect = element.constraint_defect(result.vertices,
+                                                  coefficients,
+                                                  result.traction,
+                                                  result.body_force);
+        const Vector<double> admissible =
+          JohnsonMercierElement::coefficients_of(
+            input.material.stress(cells.admissible_strain[index]));
+        result.error = coefficients;
+        result.error -= admissible;
+        result.sum = coefficients;
+        result.sum += admissible;
+        return result;
+      }
+
+      /**
+       * J_E = 1/2 (x - x_U)^T M (x - x_U) for the coefficients x = R t + x_f
+       * of sigma^ and x_U of K eps(U^), in the density slots t = P F of
+       * the cell's edges: gradient P^T R^T M (x - x_U), Hessian
+       * P^T R^T M R P.
+       */
+      DensityEnhancement::ElementQuadratic
+      quadratic(const DoFHandler<2>::active_cell_iterator &cell,
+                const DensityEnhancement                  &enhancement) const
+      {
+        const unsigned int index   = cell->active_cell_index();
+        const Field        current = field(cell);
+        // R P: the coefficients per unit slot value
+        FullMatrix<double> response_of_slot(
+          JohnsonMercierElement::n_coefficients, 12);
+        for (unsigned int e = 0; e < 3; ++e)
+          {
+            const unsigned int edge = patches.edges(index)[e];
+            const double       sign = enhancement.sign(edge, index);
+            for (unsigned int k = 0; k < 2; ++k)
+              for (unsigned int c = 0; c < 2; ++c)
+                {
+                  const unsigned int from =
+                    JohnsonMercierElement::traction_index(e, k, c);
+                  const unsigned int to = 4 * e + 2 * end_of(index, e, k) + c;
+                  for (unsigned int i = 0; i < response_of_slot.m(); ++i)
+                    response_of_slot(i, to) +=
+                      sign * current.response.stress_of_traction(i, from);
+                }
+          }
+        FullMatrix<double> energy_response(
+          JohnsonMercierElement::n_coefficients, 12);
+        current.response.energy.mmult(energy_response, response_of_slot);
+        DensityEnhancement::ElementQuadratic result;
+        result.hessian.reinit(12, 12);
+        response_of_slot.Tmmult(result.hessian, energy_response);
+        result.gradient.reinit(12);
+        energy_response.Tvmult(result.gradient, current.error);
+        return result;
+      }
+
+      /// ||sigma^ -/+ K eps(U^)||^2_E of a field.
+      double
+      norm_square(const Field &field, const Vector<double> &coefficients) const
+      {
+        return field.response.energy.matrix_norm_square(coefficients);
+      }
+
+    private:
+      /// The end of edge @p e of @p cell (in the edge's order) at the
+      /// cell's vertex e + k.
+      unsigned int
+      end_of(const unsigned int cell,
+             const unsigned int e,
+             const unsigned int k) const
+      {
+        const unsigned int edge   = patches.edges(cell)[e];
+        const unsigned int vertex = patches.vertices(cell)[(e + k) % 3];
+        return edges[edge].vertices[0] == vertex ? 0 : 1;
+      }
+
+      /// The macro-element.
+      const JohnsonMercierElement element;
+      /// The data of the reconstruction.
+      const EquilibrationInput<2> &input;
+      /// The cells and edges of the patches.
+      const VertexPatches &patches;
+      /// eps(U^) and whether there is a body force.
+      const CellQuantities &cells;
+      /// The densities.
+      const std::vector<EdgeData> &edges;
+    };
+
+
+
+    /// The terms of e [14] of the locally owned cells from the
+    /// Johnson-Mercier fields; returns the largest defect of their
+    /// constraints.
+    double
+    assemble_equilibrated_errors(const EquilibratedElements &elements,
+                                 const DoFHandler<2>        &dof_handler,
+                                 Vector<double>             &error_squared,
+                                 Vector<double>             &sum_squared)
+    {
+      std::mutex mutex;
+      double     defect = 0.;
+      struct NoScratch
+      {};
+      for_each_cell(
+        dof_handler,
+        [&](const DoFHandler<2>::active_cell_iterator &cell, NoScratch &) {
+          if (!cell->is_locally_owned())
+            return;
+          const unsigned int index = cell->active_cell_index();
+          const auto         field = elements.field(cell);
+          error_squared[index]     = elements.norm_square(field, field.error);
+          sum_squared[index]       = elements.norm_square(field, field.sum);
+          std::lock_guard<std::mutex> lock(mutex);
+          defect = std::max(defect, field.defect);
+        },
+        NoScratch());
+      return defect;
+    }
+
+
+
+    /**
+     * The enhanced densities (DensityEnhancement): under MPI the classical
+     * densities of all edges of the needed cells first, then the
+     * minimisation of the error of the element fields whose quadratic
+     * @p element_quadratic(cell, enhancement) gives; the densities of
+     * @p edges are replaced.
+     */
+    template <typename ElementQuadratic>
+    void
+    enhance_densities(const VertexPatches         &patches,
+                      const std::vector<Point<2>> &vertices,
+                      const MPI_Comm               communicator,
+                      const ElementQuadratic      &element_quadratic,
+                      const unsigned int           max_iterations,
+                      const double                 tolerance,
+                      std::vector<EdgeData>       &edges)
+    {
+      std::vector<std::array<unsigned int, 2>> edge_vertices(edges.size());
+      std::vector<std::array<bool, 2>>         free_components(edges.size());
+      for (unsigned int edge = 0; edge < edges.size(); ++edge)
+        {
+          edge_vertices[edge]   = edges[edge].vertices;
+          free_components[edge] = edges[edge].unknown_component;
+        }
+      const DensityEnhancement enhancement(
+        patches, vertices, edge_vertices, free_components, communicator);
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1)
+        {
+          gather_projections(patches, enhancement, communicator, edges);
+          densities_from_projections(patches, edges);
+        }
+      const std::vector<double> initial =
+        to_slots(patches, enhancement, edges, &EdgeData::density, false);
+      Vector<double> slots(initial.begin(), initial.end());
+      enhancement.run(
+        [&](const unsigned int cell) {
+          return element_quadratic(cell, enhancement);
+        },
+        max_iterations,
+        tolerance,
+        slots);
+      from_slots(patches, enhancement, slots, &EdgeData::density, edges);
+    }
+
+
+
     /// sigma^ = K eps(v_E) on the locally owned cells (in parallel) and
     /// ||sigma^ -/+ K eps(U^)||^2_E = (v_E -/+ u^)^T K_E (v_E -/+ u^).
     void
@@ -1291,8 +1673,21 @@ namespace Signorini
       using TractionDensities =
         typename ElementEquilibration<dim>::TractionDensities;
       static const NamedValues<TractionDensities> names(
-        {{"least squares", TractionDensities::least_squares, ""},
+        {{"enhanced", TractionDensities::enhanced, ""},
+         {"least squares", TractionDensities::least_squares, ""},
          {"minimised", TractionDensities::minimised, ""}});
+      return names;
+    }
+
+    /// The names of the values of "Element stress".
+    template <int dim>
+    const NamedValues<typename ElementEquilibration<dim>::ElementStress> &
+    element_stress_names()
+    {
+      using ElementStress = typename ElementEquilibration<dim>::ElementStress;
+      static const NamedValues<ElementStress> names(
+        {{"equilibrated", ElementStress::equilibrated, ""},
+         {"displacement", ElementStress::displacement, ""}});
       return names;
     }
   } // namespace
@@ -1312,10 +1707,34 @@ namespace Signorini
                       traction_densities_names<dim>().default_name(),
                       Patterns::Selection(
                         traction_densities_names<dim>().selection()),
-                      "Choice of the free parameters of the equilibrated "
-                      "traction densities: 'least squares' towards the "
-                      "averaged FE tractions (classical EET) or 'minimised' "
-                      "error measure (one extra sparse global solve).");
+                      "Choice of the equilibrated traction densities: "
+                      "'least squares' towards the averaged FE tractions "
+                      "(classical EET), 'minimised' error measure over the "
+                      "free parameters of the prolongation condition (one "
+                      "extra sparse global solve), or 'enhanced': the error "
+                      "measure minimised under element equilibrium only "
+                      "(weak prolongation condition, vertex-patch "
+                      "preconditioned CG).");
+    prm.declare_entry("Element stress",
+                      element_stress_names<dim>().default_name(),
+                      Patterns::Selection(
+                        element_stress_names<dim>().selection()),
+                      "sigma^ on each element from its densities: "
+                      "'displacement' (Neumann problem of degree Local "
+                      "degree, the paper) or 'equilibrated' (Johnson-Mercier "
+                      "field, exactly statically admissible: e is a "
+                      "guaranteed bound, doc/estimator.md).");
+    prm.declare_entry("Enhancement iterations",
+                      "50",
+                      Patterns::Integer(0, 1000),
+                      "Largest number of conjugate gradient iterations of "
+                      "the enhanced densities (every iterate is admissible).");
+    prm.declare_entry("Enhancement tolerance",
+                      "1e-4",
+                      Patterns::Double(0., 1.),
+                      "Stop the enhancement when an iteration decreases the "
+                      "error measure by at most this fraction of the "
+                      "decrease so far.");
   }
 
 
@@ -1325,6 +1744,10 @@ namespace Signorini
     : local_degree(prm.get_integer("Local degree"))
     , traction_densities(
         traction_densities_names<dim>().value(prm.get("Traction densities")))
+    , element_stress(
+        element_stress_names<dim>().value(prm.get("Element stress")))
+    , enhancement_iterations(prm.get_integer("Enhancement iterations"))
+    , enhancement_tolerance(prm.get_double("Enhancement tolerance"))
   {}
 
 
@@ -1389,12 +1812,49 @@ namespace Signorini
           problems, patches, free_directions, input.dof_handler, edges);
         densities_from_projections(patches, edges);
       }
+    const EquilibratedElements equilibrated(input, patches, cells, edges);
+    const bool                 equilibrated_stress =
+      (element_stress == ElementStress::equilibrated);
+    if (traction_densities == TractionDensities::enhanced)
+      {
+        std::vector<DoFHandler<2>::active_cell_iterator> cell_of_index(
+          triangulation.n_active_cells());
+        for (const auto &cell : input.dof_handler.active_cell_iterators())
+          cell_of_index[cell->active_cell_index()] = cell;
+        enhance_densities(
+          patches,
+          triangulation.get_vertices(),
+          communicator,
+          [&](const unsigned int cell, const DensityEnhancement &enhancement) {
+            return equilibrated_stress ?
+                     equilibrated.quadratic(cell_of_index[cell], enhancement) :
+                     element_problem_quadratic(problems,
+                                               patches,
+                                               enhancement,
+                                               cell_of_index[cell]);
+          },
+          enhancement_iterations,
+          enhancement_tolerance,
+          edges);
+      }
 
-    // 2. and 3. sigma^ from the element problems (in equilibrium [2] with
-    //    the element data) and the terms of e [14] per element
-    assemble_errors(problems, input.dof_handler, error_squared, sum_squared);
-    this->max_equilibrium_defect =
-      Utilities::MPI::max(problems.equilibrium_defect(), communicator);
+    // 2. and 3. sigma^ on each element (in equilibrium [2] with the element
+    //    data) and the terms of e [14] per element
+    double defect = 0.;
+    if (equilibrated_stress)
+      defect = assemble_equilibrated_errors(equilibrated,
+                                            input.dof_handler,
+                                            error_squared,
+                                            sum_squared);
+    else
+      {
+        assemble_errors(problems,
+                        input.dof_handler,
+                        error_squared,
+                        sum_squared);
+        defect = problems.equilibrium_defect();
+      }
+    this->max_equilibrium_defect = Utilities::MPI::max(defect, communicator);
   }
 
 

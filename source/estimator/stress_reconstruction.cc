@@ -98,13 +98,16 @@ namespace Signorini
         "Error estimator",
         "Stress reconstruction",
         "Construction of sigma^ (doc/estimator.md)");
-      add_reconstruction<dim, StarPatchEquilibration<dim>>(
-        family, "star patch", "flux-free vertex-patch problems", "Star patch");
       add_reconstruction<dim, ElementEquilibration<dim>>(
         family,
         "element equilibration",
-        "the paper's element equilibration technique, [LAD 91]",
+        "traction densities and element fields: by default enhanced "
+        "densities and exactly equilibrated fields, a guaranteed bound; the "
+        "paper's technique [LAD 91] with least squares densities and "
+        "displacement fields",
         "Element equilibration");
+      add_reconstruction<dim, StarPatchEquilibration<dim>>(
+        family, "star patch", "flux-free vertex-patch problems", "Star patch");
       return family;
     }();
     return reconstructions;

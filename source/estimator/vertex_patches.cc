@@ -1,3 +1,5 @@
+#include <deal.II/distributed/tria_base.h>
+
 #include <signorini/estimator/vertex_patches.h>
 
 #include <algorithm>
@@ -6,6 +8,8 @@ namespace Signorini
 {
   VertexPatches::VertexPatches(const Triangulation<2> &triangulation)
     : vertex_of_owned_cell(triangulation.n_vertices(), false)
+    , computing_vertex(triangulation.n_vertices(), false)
+    , owned_cell(triangulation.n_active_cells(), false)
     , needed_cell(triangulation.n_active_cells(), false)
     , cells_around_vertex(triangulation.n_vertices())
     , cell_vertices(triangulation.n_active_cells())
@@ -16,8 +20,29 @@ namespace Signorini
   {
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const unsigned int v : cell->vertex_indices())
-          vertex_of_owned_cell[cell->vertex_index(v)] = true;
+        {
+          owned_cell[cell->active_cell_index()] = true;
+          for (const unsigned int v : cell->vertex_indices())
+            vertex_of_owned_cell[cell->vertex_index(v)] = true;
+        }
+
+    // the lowest owner among the cells around each vertex computes its patch
+    // (a serial triangulation owns everything: its subdomain ids are all 0)
+    const auto *distributed =
+      dynamic_cast<const parallel::TriangulationBase<2> *>(&triangulation);
+    const types::subdomain_id this_rank =
+      distributed != nullptr ? distributed->locally_owned_subdomain() : 0;
+    std::vector<types::subdomain_id> lowest_owner(
+      triangulation.n_vertices(), numbers::invalid_subdomain_id);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        lowest_owner[cell->vertex_index(v)] =
+          std::min(lowest_owner[cell->vertex_index(v)],
+                   distributed != nullptr ? cell->subdomain_id() :
+                                            types::subdomain_id(0));
+    for (unsigned int vertex = 0; vertex < triangulation.n_vertices(); ++vertex)
+      computing_vertex[vertex] =
+        vertex_of_owned_cell[vertex] && lowest_owner[vertex] == this_rank;
 
     // in active cell order, so that the patch cells and the first cell of
     // an edge do not depend on anything else

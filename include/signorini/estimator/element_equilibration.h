@@ -51,10 +51,20 @@ namespace Signorini
     enum class TractionDensities
     {
       least_squares,
-      minimised
+      minimised,
+      enhanced
     };
 
-    /// "Local degree" and "Traction densities", in the current subsection
+    /// How sigma^ is built on each element from its densities ("Element
+    /// stress").
+    enum class ElementStress
+    {
+      displacement,
+      equilibrated
+    };
+
+    /// "Local degree", "Traction densities", "Element stress" and the
+    /// enhancement's, in the current subsection
     static void
     declare_parameters(ParameterHandler &prm);
 
@@ -85,6 +95,12 @@ namespace Signorini
     /// How the free parameters of the densities are chosen: least squares,
     /// or minimising the error ("Traction densities = minimised").
     TractionDensities traction_densities;
+    /// How sigma^ is built on each element ("Element stress").
+    ElementStress element_stress;
+    /// The iterations of the enhanced densities ("Enhancement iterations").
+    unsigned int enhancement_iterations;
+    /// Its stopping tolerance ("Enhancement tolerance").
+    double enhancement_tolerance;
   };
 
   /// In 3D: throws an InputError (the construction is written for

@@ -48,6 +48,32 @@ namespace Signorini
              !cells_around_vertex[vertex].empty();
     }
 
+    /**
+     * Whether this rank is the one that computes the patch of @p vertex
+     * where every patch must be computed once over all ranks: among the
+     * ranks that treat it, the one of lowest subdomain id owning a cell
+     * around it.
+     */
+    bool
+    computes_patch(const unsigned int vertex) const
+    {
+      return computing_vertex[vertex];
+    }
+
+    /// The number of active cells of the triangulation (needed or not).
+    unsigned int
+    n_cells() const
+    {
+      return needed_cell.size();
+    }
+
+    /// Whether this rank owns the cell of active cell index @p cell.
+    bool
+    owned(const unsigned int cell) const
+    {
+      return owned_cell[cell];
+    }
+
     /// Whether the cell of active cell index @p cell lies in a treated patch.
     bool
     needed(const unsigned int cell) const
@@ -125,6 +151,10 @@ namespace Signorini
   private:
     /// By vertex: is it a vertex of a locally owned cell?
     std::vector<bool> vertex_of_owned_cell;
+    /// By vertex: does this rank compute its patch (computes_patch())?
+    std::vector<bool> computing_vertex;
+    /// By active cell index: does this rank own it?
+    std::vector<bool> owned_cell;
     /// By active cell index: does the cell lie in a treated patch?
     std::vector<bool> needed_cell;
     /// By vertex: the needed cells around it.

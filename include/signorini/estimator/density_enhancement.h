@@ -1,0 +1,161 @@
+#ifndef signorini_estimator_density_enhancement_h
+#define signorini_estimator_density_enhancement_h
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <signorini/estimator/vertex_patches.h>
+
+#include <array>
+#include <functional>
+#include <vector>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /**
+   * Enhanced traction densities: the weak prolongation condition
+   * (Ladeveze and Rougeot 1997; Pled, Chamoin and Ladeveze, Comput. Mech.
+   * 2012; doc/estimator.md).
+   *
+   * The classical densities satisfy the (strong) prolongation condition
+   * int_E (sigma^ - sigma_h) : eps(phi_i) = 0 on every element and vertex,
+   * which leaves them a few free parameters per vertex and keeps the
+   * estimate loose however the element problems are solved. Here the
+   * densities F (linear on every edge) are changed keeping only what makes
+   * sigma^ admissible, the equilibrium of every element with its data, so
+   * as to minimise
+   *   J(F) = 1/2 sum_E ||sigma^_E(F) - K eps(U^)||^2_E,
+   * sigma^_E(F) the stress of the element problem of E (affine in the
+   * densities of its three edges, ElementQuadratic).
+   *
+   * The minimisation is a conjugate gradient method in the space of changes
+   * that keep every element in equilibrium, preconditioned by the vertex
+   * patches (additive Schwarz): the patch of vertex i may change both nodal
+   * values of the densities of the edges through i (interior edges: both
+   * components; boundary edges: their Dirichlet components; loaded and
+   * contact components keep their data) under the equilibrium of each
+   * element of the patch, and minimises its restriction of J exactly. Each
+   * patch correction keeps every element in equilibrium, so does every
+   * iterate: sigma^ stays statically admissible after any number of
+   * iterations (a fixed number, "Enhancement iterations").
+   *
+   * Densities are exchanged as vectors over all edges of the mesh, slot
+   * 4 G + 2 k + c for edge G (face index), its end k (in the face's vertex
+   * order) and component c. The value of a slot is the traction on the cell
+   * out of which the edge's reference normal (the tangent from end 0 to end
+   * 1 turned clockwise) points, whichever rank looks at it. Each patch is
+   * computed by exactly one rank (VertexPatches::computes_patch()), every
+   * vector entry is the sum of at most two contributions and every scalar
+   * product is taken over the full vectors in slot order: the result is the
+   * same on any number of ranks and threads.
+   */
+  class DensityEnhancement
+  {
+  public:
+    /// The slot of end @p end, component @p component of edge @p edge.
+    static unsigned int
+    slot(const unsigned int edge,
+         const unsigned int end,
+         const unsigned int component)
+    {
+      return 4 * edge + 2 * end + component;
+    }
+
+    /**
+     * J_E(F + dF) = J_E(F) + gradient . dF + 1/2 dF . hessian dF for the 12
+     * values dF of the densities of the cell's edges, at position
+     * 4 e + 2 k + c for its edge e (VertexPatches::edges()), end k,
+     * component c, taken as the values of the slots (not the traction on
+     * this cell: sign() converts).
+     */
+    struct ElementQuadratic
+    {
+      /// 12 x 12, symmetric positive semi-definite.
+      FullMatrix<double> hessian;
+      /// 12 entries, at the current densities.
+      Vector<double> gradient;
+    };
+
+    /**
+     * The problem on the patches of @p patches, with the coordinates
+     * @p vertices of the mesh's vertices, the global vertex numbers
+     * @p edge_vertices of every edge (by face index; only those of the
+     * needed cells are read) and the components of every edge the densities
+     * may change (@p free_components: both on interior edges, the Dirichlet
+     * ones on the boundary).
+     */
+    DensityEnhancement(
+      const VertexPatches                        &patches,
+      const std::vector<Point<2>>                &vertices,
+      const std::vector<std::array<unsigned, 2>> &edge_vertices,
+      const std::vector<std::array<bool, 2>>     &free_components,
+      const MPI_Comm                              communicator);
+
+    /// +1 if the slot values of @p edge are the tractions on @p cell (the
+    /// reference normal points out of it), -1 otherwise.
+    double
+    sign(const unsigned int edge, const unsigned int cell) const;
+
+    /// What run() did.
+    struct Result
+    {
+      /// The iterations taken.
+      unsigned int iterations = 0;
+      /// The decrease of J (> 0: every iteration decreases J).
+      double decrease = 0.;
+    };
+
+    /**
+     * The preconditioned conjugate gradient method from the @p densities
+     * given in all slots (identical on every rank; the result too), until
+     * an iteration decreases J by at most @p tolerance times the decrease
+     * so far, or @p max_iterations. @p element_quadratic(cell) is called
+     * once per needed cell, on worker threads, at the given densities.
+     */
+    Result
+    run(const std::function<ElementQuadratic(unsigned int)> &element_quadratic,
+        const unsigned int                                   max_iterations,
+        const double                                         tolerance,
+        Vector<double>                                      &densities) const;
+
+  private:
+    /// What the preconditioner keeps of the patch of one vertex.
+    struct Patch
+    {
+      /// The slots it may change.
+      std::vector<unsigned int> slots;
+      /// A basis Z of the changes of these slots keeping every element of
+      /// the patch in equilibrium (columns).
+      FullMatrix<double> basis;
+    };
+
+    /// The patch of @p vertex: its slots and the basis of its equilibrated
+    /// changes.
+    Patch
+    describe_patch(const unsigned int vertex) const;
+
+    /// The rows of the equilibrium of @p cell (resultant, moment / h) for
+    /// a unit value of each of @p slots (zero for slots not on the cell).
+    FullMatrix<double>
+    equilibrium_rows(const unsigned int               cell,
+                     const std::vector<unsigned int> &slots) const;
+
+    /// The cells and edges.
+    const VertexPatches &patches;
+    /// Vertex coordinates.
+    const std::vector<Point<2>> &vertices;
+    /// The vertices of every edge.
+    const std::vector<std::array<unsigned, 2>> &edge_vertices;
+    /// The components the densities may change, by edge.
+    const std::vector<std::array<bool, 2>> &free_components;
+    /// The ranks.
+    const MPI_Comm communicator;
+  };
+} // namespace Signorini
+
+#endif
