@@ -29,8 +29,9 @@ namespace Signorini
    * - R^, U^ and the displacement whose stress is in finite element
    *   equilibrium with R^ from the contact condition
    *   (ContactCondition::admissible_fields(): paper sections 5.1 and 5.2);
-   * - sigma^ from a StressReconstruction (star patch by default, or the
-   *   paper's element equilibration).
+   * - sigma^ from a StressReconstruction (by default element equilibration
+   *   with enhanced densities and Johnson-Mercier fields, a guaranteed
+   *   bound; or the paper's element equilibration, or the star patch).
    *
    * Then, per element E and with D = ||sigma^ + K eps(U^)||^2 + 2 int R^_n
    * (W^_n - g):
