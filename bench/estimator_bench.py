@@ -49,7 +49,7 @@ def main():
     parser.add_argument("--max-level", type=int, default=7)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--reconstruction", default="star patch",
+    parser.add_argument("--reconstruction", default="element equilibration",
                         choices=["star patch", "element equilibration"])
     args = parser.parse_args()
     exe = os.path.join(args.build, "signorini")

@@ -240,33 +240,44 @@ namespace Signorini
           }
       sum_over_ranks(y);
     };
-    // z = sum_i Z_i (Z_i^T H_i Z_i)^+ Z_i^T r_i (additive Schwarz)
+    // z = sum_i Z_i (Z_i^T H_i Z_i)^+ Z_i^T r_i (additive Schwarz), the
+    // patch corrections in one flat array (no allocation per iteration)
+    std::vector<unsigned int> offset(computed.size() + 1, 0);
+    for (unsigned int p = 0; p < computed.size(); ++p)
+      offset[p + 1] = offset[p] + patch_data[p].slots.size();
+    std::vector<double> corrections(offset.back());
     const auto precondition = [&](const Vector<double> &r, Vector<double> &z) {
-      std::vector<Vector<double>> corrections(computed.size());
       parallel::apply_to_subranges(
         0u,
         static_cast<unsigned int>(computed.size()),
         [&](const unsigned int begin, const unsigned int end) {
+          std::vector<double> reduced, step;
           for (unsigned int p = begin; p < end; ++p)
             {
               const Patch       &patch = patch_data[p];
               const unsigned int n = patch.slots.size(), k = patch.basis.n();
+              double *const      correction = corrections.data() + offset[p];
+              std::fill(correction, correction + n, 0.);
               if (k == 0)
                 continue;
-              Vector<double> local(n), reduced(k), step(k);
+              reduced.assign(k, 0.);
+              step.assign(k, 0.);
               for (unsigned int j = 0; j < n; ++j)
-                local[j] = r[patch.slots[j]];
-              patch.basis.Tvmult(reduced, local);
-              reduced_inverse[p].vmult(step, reduced);
-              patch.basis.vmult(local, step);
-              corrections[p] = local;
+                for (unsigned int i = 0; i < k; ++i)
+                  reduced[i] += patch.basis(j, i) * r[patch.slots[j]];
+              for (unsigned int i = 0; i < k; ++i)
+                for (unsigned int l = 0; l < k; ++l)
+                  step[i] += reduced_inverse[p](i, l) * reduced[l];
+              for (unsigned int j = 0; j < n; ++j)
+                for (unsigned int i = 0; i < k; ++i)
+                  correction[j] += patch.basis(j, i) * step[i];
             }
         },
         64);
       z.reinit(n_slots);
       for (unsigned int p = 0; p < computed.size(); ++p)
-        for (unsigned int j = 0; j < corrections[p].size(); ++j)
-          z[patch_data[p].slots[j]] += corrections[p][j];
+        for (unsigned int j = 0; j < patch_data[p].slots.size(); ++j)
+          z[patch_data[p].slots[j]] += corrections[offset[p] + j];
       sum_over_ranks(z);
     };
 

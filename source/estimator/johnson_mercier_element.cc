@@ -50,8 +50,10 @@ namespace Signorini
       // the condition number of the constraints is ~5 (h^2 / |E|)^2: beyond
       // ~1e12 the result would carry no digits worth having
       AssertThrow(s.h > 0. && s.area > 1e-6 * s.h * s.h,
-                  ExcMessage("JohnsonMercierElement: degenerate triangle "
-                             "(area < 1e-6 diameter^2)"));
+                  ExcMessage("a triangle of area < 1e-6 diameter^2 (a sliver) "
+                             "has no reliable Johnson-Mercier field: remesh, "
+                             "or set Error estimator/Element "
+                             "equilibration/Element stress = displacement"));
       s.rho = s.area / s.h;
       // outward: (d_y, -d_x) for counterclockwise vertices
       const double orientation = twice_signed_area > 0. ? 1. : -1.;
