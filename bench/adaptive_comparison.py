@@ -97,9 +97,18 @@ def render_figures(directory, rows):
         fig.savefig(os.path.join(out, name), dpi=110, bbox_inches="tight")
         plt.close(fig)
 
-    titles = ["Figure 4: initial mesh", "Figure 5: intermediate mesh",
-              "Figure 6: optimised mesh"]
-    for k, (points, triangles, _) in enumerate(meshes[:3]):
+    # figure 4: the initial mesh, 5: the intermediate one (if the target
+    # took three computations or more), 6: the last (optimised) mesh
+    shown = [(0, 4, "initial mesh")]
+    if len(meshes) > 2:
+        shown.append((1, 5, "intermediate mesh"))
+    else:
+        stale = os.path.join(out, "figure-5-mesh-1.png")
+        if os.path.exists(stale):
+            os.remove(stale)
+    shown.append((len(meshes) - 1, 6, "optimised mesh"))
+    for k, number, title in shown:
+        points, triangles, _ = meshes[k]
         fig, ax = plt.subplots(figsize=(6, 5))
         if len(triangles) > 5000:
             # too many edges to see: colour by element size, edges faint
@@ -114,12 +123,13 @@ def render_figures(directory, rows):
         ax.triplot(points[:, 0], points[:, 1], triangles, color="k",
                    linewidth=0.6 if len(triangles) < 5000 else 0.03)
         row = rows[k]
-        ax.set_title(f"{titles[k]}\n{row['cells']} triangles, "
+        ax.set_title(f"Figure {number}: {title} (computation {k + 1})\n"
+                     f"{row['cells']} triangles, "
                      f"{row['nodes']} nodes, eps = "
                      f"{100 * float(row['eps']):.2f} %")
         ax.set_aspect("equal")
         ax.set_axis_off()
-        save(fig, f"figure-{4 + k}-mesh-{k}.png")
+        save(fig, f"figure-{number}-mesh-{number - 4}.png")
 
     points, triangles, data = meshes[-1]
     u = data["displacement"][:, :2]

@@ -2,7 +2,9 @@
 """Triangles and time each mesh strategy needs for an exact error
 eps_ex <= 1 % on the paper's block (integral condition, default estimator):
 uniform refinement, fixed fraction, and the optimal sizes realised by
-refinement and by remeshing (issue 13, item 4).
+refinement and by remeshing (issue 13, item 4). The optimal sizes aim at
+eps_0 = 1 %: the default estimator's effectivity (1.05 to 1.15) puts eps_ex
+a little below it.
 
 For each strategy a first run with a reference solution gives eps_ex of
 every computation (adaptive strategies: against their last mesh refined
@@ -32,10 +34,10 @@ STRATEGIES = [
     ("fixed fraction", "set Strategy = fixed fraction\n"
      "  set Target error = 0.005\n  set Refined fraction = 0.5\n"
      "  set Realisation = refinement", 30, "final mesh"),
-    ("optimal size, refinement", "set Target error = 0.012\n"
+    ("optimal size, refinement", "set Target error = 0.01\n"
      "  set Realisation = refinement\n  set Singular rate = 0.75", 4,
      "final mesh"),
-    ("optimal size, remeshing", "set Target error = 0.012\n"
+    ("optimal size, remeshing", "set Target error = 0.01\n"
      "  set Realisation = remeshing", 4, "final mesh"),
 ]
 
