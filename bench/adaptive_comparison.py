@@ -220,7 +220,7 @@ def main():
         writer.writerows(table)
 
     print("| condition | strategy | computations | triangles (first with "
-          "eps <= 2.1 %) | eps there | eps x sqrt(triangles) | "
+          "eps <= 2.05 %) | eps there | eps x sqrt(triangles) | "
           "triangles at eps = 2 % (log-log) | seconds |")
     print("|---|---|---|---|---|---|---|---|")
     for (strategy, condition), rows in runs.items():
