@@ -1397,7 +1397,8 @@ namespace Signorini
     class EquilibratedElements
     {
     public:
-      /// The fields of the elements, with the data of @p problems.
+      /// The fields of the elements from the data of @p input and @p cells
+      /// and the densities of @p edges (read when a field is asked for).
       EquilibratedElements(const EquilibrationInput<2> &input,
                            const VertexPatches         &patches,
                            const CellQuantities        &cells,
@@ -1756,7 +1757,8 @@ namespace Signorini
   std::string
   ElementEquilibration<dim>::condition() const
   {
-    return "the prolongation condition";
+    return "the prolongation condition (of the classical densities, which "
+           "the enhancement starts from)";
   }
 
 
