@@ -193,6 +193,8 @@ namespace Signorini
             patch.basis.Tmmult(reduced, hz);
             LAPACKFullMatrix<double> inverse(k, k);
             inverse = reduced;
+            // deal.II 9.4 drops the singular values below threshold times
+            // the largest (its documentation says the reciprocal)
             inverse.compute_inverse_svd(1e-10);
             // the entries are not readable after compute_inverse_svd():
             // apply it to the unit vectors
