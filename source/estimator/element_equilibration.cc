@@ -1425,8 +1425,8 @@ namespace Signorini
         Vector<double> error;
         /// sigma^ plus K eps(U^), as coefficients.
         Vector<double> sum;
-        /// The relative defect of its constraints.
-        double defect = 0.;
+        /// sigma^, as coefficients.
+        Vector<double> coefficients;
       };
 
       /// The field of a needed cell at the current densities.
@@ -1469,10 +1469,7 @@ namespace Signorini
           for (unsigned int i = 0; i < coefficients.size(); ++i)
             coefficients[i] +=
               result.response.stress_of_body_force(i, c) * result.body_force[c];
-        result.defect = element.constraint_defect(result.vertices,
-                                                  coefficients,
-                                                  result.traction,
-                                                  result.body_force);
+        result.coefficients = coefficients;
         const Vector<double> admissible =
           JohnsonMercierElement::coefficients_of(
             input.material.stress(cells.admissible_strain[index]));
@@ -1522,6 +1519,17 @@ namespace Signorini
         result.gradient.reinit(12);
         energy_response.Tvmult(result.gradient, current.error);
         return result;
+      }
+
+      /// The relative defect of the constraints of a field (only the final
+      /// fields are checked: the enhancement's are intermediate).
+      double
+      defect(const Field &field) const
+      {
+        return element.constraint_defect(field.vertices,
+                                         field.coefficients,
+                                         field.traction,
+                                         field.body_force);
       }
 
       /// ||sigma^ -/+ K eps(U^)||^2_E of a field.
@@ -1580,8 +1588,9 @@ namespace Signorini
           const auto         field = elements.field(cell);
           error_squared[index]     = elements.norm_square(field, field.error);
           sum_squared[index]       = elements.norm_square(field, field.sum);
+          const double                cell_defect = elements.defect(field);
           std::lock_guard<std::mutex> lock(mutex);
-          defect = std::max(defect, field.defect);
+          defect = std::max(defect, cell_defect);
         },
         NoScratch());
       return defect;
