@@ -51,7 +51,7 @@ namespace Signorini
     ExactSolution<dim>::declare_parameters(prm);
     MeshInput<dim>::declare_parameters(prm);
     SizePredictor::registry().declare_parameters(prm);
-    GmshRemesher<dim>::declare_parameters(prm);
+    AdaptiveMesh<dim>::declare_parameters(prm);
     AdaptationTarget::declare_parameters(prm);
     ContactComputation<dim>::declare_parameters(prm);
     ConstitutiveRelationError<dim>::declare_parameters(prm);
@@ -80,12 +80,15 @@ namespace Signorini
     estimator.parse_parameters(prm);
     size_predictor = SizePredictor::registry().create(prm, dim);
     adaptation_target.parse_parameters(prm);
-    remesher.parse_parameters(prm);
-    std::set<types::boundary_id> boundary_ids =
-      computation.boundary_conditions().used_boundary_ids();
-    for (const auto id : computation.contact_boundary().boundary_ids())
-      boundary_ids.insert(id);
-    remesher.check_geometry(mesh_input, boundary_ids);
+    adaptive_mesh.parse_parameters(prm);
+    if (remeshing())
+      {
+        std::set<types::boundary_id> boundary_ids =
+          computation.boundary_conditions().used_boundary_ids();
+        for (const auto id : computation.contact_boundary().boundary_ids())
+          boundary_ids.insert(id);
+        remesher.check_geometry(mesh_input, boundary_ids);
+      }
     if (size_predictor->needs_target_error() && !adaptation_target.enabled())
       throw InputError("Mesh adaptation/Target error: the " +
                        size_predictor->name() +
@@ -214,7 +217,7 @@ namespace Signorini
         " written)");
     };
 
-    if (remesher.enabled())
+    if (remeshing())
       {
         // continuous sizes: the new mesh has about N* cells
         if (predicted_cells > max_cells)
@@ -228,22 +231,41 @@ namespace Signorini
 
     // h*_E = r_E h_E in whole levels: the region of E is refined k_E times
     // beyond the level of E (fewer than its level if k_E < 0)
-    const std::vector<int> level_change = size_predictor->level_changes(
-      {local_error, near_singularity, &adaptive_mesh.levels()},
-      prediction,
-      adaptation_target.target_error);
+    const double         level_ratio = adaptive_mesh.level_size_ratio();
+    SizePredictor::Input input{local_error,
+                               near_singularity,
+                               &adaptive_mesh.levels(),
+                               level_ratio};
+    if (adaptive_mesh.realisation() ==
+        AdaptiveMesh<dim>::Realisation::bisection)
+      input.realised = [this, level_ratio](const std::vector<int> &change) {
+        // a request beyond Maximum cells is not tried (it is refused below)
+        double requested = 0.;
+        for (const int k : change)
+          requested += std::pow(level_ratio, -double(dim) * std::max(k, 0));
+        if (requested > max_cells)
+          return SizePredictor::Realised{
+            change, static_cast<unsigned int>(std::min(requested, 4e9))};
+        const auto [realised, n_cells] = adaptive_mesh.trial_remesh(change);
+        return SizePredictor::Realised{realised, n_cells};
+      };
+    const std::vector<int> level_change =
+      size_predictor->level_changes(input,
+                                    prediction,
+                                    adaptation_target.target_error);
 
     // Refuse a mesh beyond Maximum cells before building it. A cell refined
-    // k levels becomes 2^(dim k) cells (the halves of a green cell count as
-    // whole cells, a coarsened cell as one); where the new levels of two
-    // neighbours differ, the closure (2:1 balance, green cells) adds about
-    // one cell per finest edge of their face. This bounded the built mesh
-    // within 20 % on the block (optimal size, fixed fraction); the check
-    // after the build is exact.
+    // k levels becomes level_ratio^(-dim k) cells (the halves of a green
+    // cell count as whole cells, a coarsened cell as one); where the new
+    // levels of two neighbours differ, the closure (2:1 balance, green
+    // cells, bisection) adds about one cell per finest edge of their face.
+    // This bounded the built mesh within 20 % on the block (optimal size,
+    // fixed fraction); the check after the build is exact.
     const auto &levels          = adaptive_mesh.levels();
     double      requested_cells = 0.;
     for (const int change : level_change)
-      requested_cells += std::pow(2., dim * std::max(change, 0));
+      requested_cells +=
+        std::pow(level_ratio, -double(dim) * std::max(change, 0));
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (!cell->at_boundary(f) &&
@@ -254,10 +276,9 @@ namespace Signorini
             const int new_a = int(levels[a]) + std::max(level_change[a], 0);
             const int new_b = int(levels[b]) + std::max(level_change[b], 0);
             if (new_a != new_b)
-              requested_cells +=
-                std::pow(2.,
-                         std::max(new_a, new_b) -
-                           int(std::min(levels[a], levels[b])));
+              requested_cells += std::pow(level_ratio,
+                                          int(std::min(levels[a], levels[b])) -
+                                            std::max(new_a, new_b));
           }
     if (requested_cells > max_cells)
       throw refuse("about " + cell_count(requested_cells));
@@ -378,7 +399,7 @@ namespace Signorini
   {
     // refined meshes compare by level in the same hierarchy; a remeshed
     // mesh by its smallest cell against the reference's largest
-    if (remesher.enabled())
+    if (remeshing())
       {
         double smallest = std::numeric_limits<double>::max(), largest = 0.;
         for (const auto &cell : triangulation.active_cell_iterators())
@@ -390,8 +411,17 @@ namespace Signorini
           largest = std::max(largest, cell->diameter());
         return smallest < largest;
       }
-    const auto &levels = adaptive_mesh.levels();
-    return *std::max_element(levels.begin(), levels.end()) >= reference.level();
+    return adaptive_mesh.finest_halvings() >= reference.level();
+  }
+
+
+
+  template <int dim>
+  bool
+  SignoriniProblem<dim>::remeshing() const
+  {
+    return adaptive_mesh.realisation() ==
+           AdaptiveMesh<dim>::Realisation::remeshing;
   }
 
 

@@ -1,6 +1,8 @@
-// The meshes of the adaptive computation (AdaptiveMesh): from the paper's
-// 96-triangle block, refine three levels around the contact/separation
-// point, build the conforming mesh by green closure and check that
+// The meshes of the adaptive computation (AdaptiveMesh), with both
+// refinements of the initial mesh: from the paper's 96-triangle block, refine
+// three levels around the contact/separation point (red refinement with green
+// closure; or newest-vertex bisection, six generations: the same sizes) and
+// check that
 // - it is conforming: no hanging-node constraints, the boundary has the
 //   length of the square's perimeter (an interior hanging edge would count)
 //   and the areas add up to one;
@@ -8,12 +10,19 @@
 // - the requested levels are met (and not exceeded), no cell is inverted and
 //   the minimum angle is reported;
 // - sizes can grow again: a rebuild with negative level changes gives the
-//   initial mesh back, since each mesh is rebuilt from the initial one.
+//   initial mesh back, since each mesh is rebuilt from the initial one;
+// - bisection: the trial of a request (trial_remesh) predicts the mesh
+//   remesh() builds (cell count, smallest level change per cell), and the
+//   Hertz mesh of Gmsh (arbitrary triangles) is refined conformingly too.
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
 
 #include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/mapping_fe.h>
+
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/grid_tools_cache.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/adaptation/mesh_quality.h>
@@ -57,49 +66,138 @@ namespace
       deallog << ' ' << id << ':' << length;
     deallog << std::endl;
   }
+
+
+
+  /// Back to the initial mesh (sizes grow: every mesh is rebuilt from it).
+  void
+  back_to_initial_mesh(const MeshInput<2> &input,
+                       AdaptiveMesh<2>    &adaptive,
+                       Triangulation<2>   &mesh)
+  {
+    std::vector<int> change(mesh.n_active_cells());
+    for (unsigned int c = 0; c < change.size(); ++c)
+      change[c] = -int(adaptive.levels()[c]);
+    adaptive.remesh(input, change, mesh);
+    describe(mesh, adaptive);
+  }
+
+
+
+  void
+  adapt_block(const AdaptiveMesh<2>::Realisation realisation,
+              const std::string                 &name)
+  {
+    deallog << "Realisation = " << name << std::endl;
+    ParameterHandler prm;
+    read_parameters(prm, "block.prm", {{"Mesh adaptation/Realisation", name}});
+    MeshInput<2> input;
+    input.parse_parameters(prm);
+    AdaptiveMesh<2> adaptive;
+    adaptive.parse_parameters(prm);
+    AssertThrow(adaptive.realisation() == realisation, ExcInternalError());
+    // levels per halving of the size
+    const int per_halving = static_cast<int>(
+      std::round(-1. / std::log2(adaptive.level_size_ratio())));
+
+    Triangulation<2> mesh;
+    adaptive.initialize(input, mesh);
+    describe(mesh, adaptive);
+
+    // three halvings within 0.15 of the contact/separation point
+    const Point<2>   separation(0.64, 0.);
+    std::vector<int> change(mesh.n_active_cells(), 0);
+    for (const auto &cell : mesh.active_cell_iterators())
+      if (cell->center().distance(separation) < 0.15)
+        change[cell->active_cell_index()] = 3 * per_halving;
+    adaptive.remesh(input, change, mesh);
+    describe(mesh, adaptive);
+    unsigned int near = 0, near_fine = 0;
+    for (const auto &cell : mesh.active_cell_iterators())
+      if (cell->center().distance(separation) < 0.05)
+        {
+          ++near;
+          near_fine += adaptive.levels()[cell->active_cell_index()] ==
+                           unsigned(3 * per_halving) ?
+                         1 :
+                         0;
+        }
+    deallog << "cells within 0.05 of the separation point at level "
+            << 3 * per_halving << ": " << near_fine << " of " << near
+            << std::endl;
+
+    // one more halving everywhere
+    change.assign(mesh.n_active_cells(), per_halving);
+    if (realisation == AdaptiveMesh<2>::Realisation::bisection)
+      {
+        const std::vector<unsigned int> old_levels = adaptive.levels();
+        Triangulation<2>                old_mesh;
+        old_mesh.copy_triangulation(mesh);
+        const auto [trial_change, trial_cells] = adaptive.trial_remesh(change);
+        adaptive.remesh(input, change, mesh);
+        // the smallest level change per old cell, found by locating the
+        // centre of every new cell in the old mesh
+        std::vector<int>    smallest(old_levels.size(), 1000);
+        const MappingFE<2>  mapping(FE_SimplexP<2>(1));
+        GridTools::Cache<2> cache(old_mesh, mapping);
+        for (const auto &cell : mesh.active_cell_iterators())
+          {
+            const auto found =
+              GridTools::find_active_cell_around_point(cache, cell->center());
+            const unsigned int old = found.first->active_cell_index();
+            smallest[old] =
+              std::min(smallest[old],
+                       int(adaptive.levels()[cell->active_cell_index()]) -
+                         int(old_levels[old]));
+          }
+        deallog << "trial_remesh: " << trial_cells << " cells predicted, "
+                << mesh.n_active_cells() << " built; level changes "
+                << (smallest == trial_change ? "as predicted" : "DIFFER")
+                << std::endl;
+      }
+    else
+      adaptive.remesh(input, change, mesh);
+    describe(mesh, adaptive);
+
+    back_to_initial_mesh(input, adaptive, mesh);
+  }
+
+
+
+  /// Bisection of the Gmsh mesh of tests/inputs/hertz.prm: five generations
+  /// more in the cells with an edge on the contact boundary, then back.
+  void
+  bisect_hertz()
+  {
+    deallog << "Realisation = bisection, Hertz mesh" << std::endl;
+    ParameterHandler prm;
+    read_parameters(prm,
+                    "hertz.prm",
+                    {{"Mesh adaptation/Realisation", "bisection"}});
+    MeshInput<2> input;
+    input.parse_parameters(prm);
+    input.set_input_directory(input_directory());
+    AdaptiveMesh<2> adaptive;
+    adaptive.parse_parameters(prm);
+    Triangulation<2> mesh;
+    adaptive.initialize(input, mesh);
+    describe(mesh, adaptive);
+    std::vector<int> change(mesh.n_active_cells(), 0);
+    for (const auto &cell : mesh.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->boundary_id() == 2)
+          change[cell->active_cell_index()] = 5;
+    adaptive.remesh(input, change, mesh);
+    describe(mesh, adaptive);
+    back_to_initial_mesh(input, adaptive, mesh);
+  }
 } // namespace
 
 int
 main()
 {
   initlog();
-  ParameterHandler prm;
-  read_parameters(prm, "block.prm", {});
-  MeshInput<2> input;
-  input.parse_parameters(prm);
-
-  AdaptiveMesh<2>  adaptive;
-  Triangulation<2> mesh;
-  adaptive.initialize(input, mesh);
-  describe(mesh, adaptive);
-
-  // three levels within 0.15 of the contact/separation point
-  const Point<2>   separation(0.64, 0.);
-  std::vector<int> change(mesh.n_active_cells(), 0);
-  for (const auto &cell : mesh.active_cell_iterators())
-    if (cell->center().distance(separation) < 0.15)
-      change[cell->active_cell_index()] = 3;
-  adaptive.remesh(input, change, mesh);
-  describe(mesh, adaptive);
-  unsigned int near = 0, near_fine = 0;
-  for (const auto &cell : mesh.active_cell_iterators())
-    if (cell->center().distance(separation) < 0.05)
-      {
-        ++near;
-        near_fine += adaptive.levels()[cell->active_cell_index()] == 3 ? 1 : 0;
-      }
-  deallog << "cells within 0.05 of the separation point at level 3: "
-          << near_fine << " of " << near << std::endl;
-
-  // one more level everywhere
-  change.assign(mesh.n_active_cells(), 1);
-  adaptive.remesh(input, change, mesh);
-  describe(mesh, adaptive);
-
-  // back to the initial mesh: sizes grow
-  change.resize(mesh.n_active_cells());
-  for (unsigned int c = 0; c < change.size(); ++c)
-    change[c] = -int(adaptive.levels()[c]);
-  adaptive.remesh(input, change, mesh);
-  describe(mesh, adaptive);
+  adapt_block(AdaptiveMesh<2>::Realisation::refinement, "refinement");
+  adapt_block(AdaptiveMesh<2>::Realisation::bisection, "bisection");
+  bisect_hertz();
 }

@@ -14,7 +14,9 @@
 // - optimal size in whole levels: the predicted error meets eps_0, the
 //   levels respect the limits and level 0, the count is below that of the
 //   rounding of every r_E to the finer power of two, and equals the fewest
-//   cells found by enumerating every choice of levels on small cases.
+//   cells found by enumerating every choice of levels on small cases;
+// - in levels of bisection (size ratio 2^(-1/2)) the count comes closer to
+//   N*, and with a closure the levels it leaves room for are undone.
 
 #include <signorini/adaptation/fixed_fraction.h>
 #include <signorini/adaptation/optimal_size.h>
@@ -239,6 +241,64 @@ main()
             << ", rounding every r_E down " << count(rounded)
             << "; fewer than the rounding "
             << (count(k) <= count(rounded) ? "yes" : "NO") << std::endl;
+
+    // levels of size ratio 2^(-1/2) (bisection: a level halves the area),
+    // then with a synthetic closure (in a chain of cells, a level at least
+    // that of each neighbour minus one): the predicted error of the realised
+    // levels meets eps_0, and undoing levels in the room the closure leaves
+    // saves cells
+    SizePredictor::Input   bisection{eps_E, regular, &levels, std::sqrt(0.5)};
+    const std::vector<int> k_bisection =
+      predictor.level_changes(bisection, p, eps_0);
+    const auto bisection_error = [&](const std::vector<int> &levels) {
+      double sum = 0.;
+      for (unsigned int c = 0; c < n; ++c)
+        sum += eps_E[c] * eps_E[c] * std::pow(2., -q * levels[c]);
+      return sum;
+    };
+    const auto bisection_count = [&](const std::vector<int> &levels) {
+      double cells = 0.;
+      for (const int h : levels)
+        cells += std::pow(2., double(h));
+      return cells;
+    };
+    const auto closure = [&](std::vector<int> levels) {
+      for (bool changed = true; changed;)
+        {
+          changed = false;
+          for (unsigned int c = 0; c + 1 < n; ++c)
+            for (const auto [a, b] :
+                 {std::make_pair(c, c + 1), std::make_pair(c + 1, c)})
+              if (levels[a] < levels[b] - 1)
+                {
+                  levels[a] = levels[b] - 1;
+                  changed   = true;
+                }
+        }
+      return levels;
+    };
+    bisection.realised = [&](const std::vector<int> &levels) {
+      const std::vector<int> closed = closure(levels);
+      return SizePredictor::Realised{
+        closed, static_cast<unsigned int>(bisection_count(closed))};
+    };
+    const std::vector<int> k_closed =
+      predictor.level_changes(bisection, p, eps_0);
+    deallog << "bisection levels: predicted error meets eps_0 "
+            << (bisection_error(k_bisection) <= eps_0 * eps_0 * (1. + 1e-12) ?
+                  "yes" :
+                  "NO")
+            << "; cells " << bisection_count(k_bisection) << " = "
+            << bisection_count(k_bisection) / p.predicted_cells
+            << " N*; with the closure " << bisection_count(closure(k_bisection))
+            << ", with the closure "
+            << "taken into account " << bisection_count(closure(k_closed))
+            << " (predicted error meets eps_0 "
+            << (bisection_error(closure(k_closed)) <=
+                    eps_0 * eps_0 * (1. + 1e-12) ?
+                  "yes" :
+                  "NO")
+            << ")" << std::endl;
 
     // small cases: every choice of levels in [-1, 4] (6^5 of them)
     std::mt19937                           generator(11);

@@ -133,6 +133,11 @@ namespace Signorini
     bool
     reference_not_finer() const;
 
+    /// Is the next mesh made by Gmsh (Mesh adaptation/Realisation =
+    /// remeshing) rather than refined from the initial mesh?
+    bool
+    remeshing() const;
+
     /// Has the last estimate reached the target error (with tolerance)?
     bool
     target_reached() const;

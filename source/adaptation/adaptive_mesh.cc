@@ -2,12 +2,89 @@
 
 #include <signorini/adaptation/adaptive_mesh.h>
 #include <signorini/input_error.h>
+#include <signorini/registry.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 namespace Signorini
 {
+  namespace
+  {
+    template <int dim>
+    const NamedValues<typename AdaptiveMesh<dim>::Realisation> &
+    realisation_names()
+    {
+      using Realisation = typename AdaptiveMesh<dim>::Realisation;
+      static const NamedValues<Realisation> names(
+        {{"refinement",
+          Realisation::refinement,
+          "red refinement of the initial mesh in whole levels (sizes in steps "
+          "of 2), made conforming by green closure"},
+         {"bisection",
+          Realisation::bisection,
+          "newest-vertex bisection of the initial mesh (sizes in steps of "
+          "sqrt 2), conforming without closure cells, 2D"},
+         {"remeshing",
+          Realisation::remeshing,
+          "the geometry meshed anew by Gmsh with the predicted sizes as a "
+          "continuous size field"}});
+      return names;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh adaptation");
+    prm.declare_entry("Realisation",
+                      realisation_names<dim>().default_name(),
+                      Patterns::Selection(realisation_names<dim>().selection()),
+                      realisation_names<dim>().help(
+                        "How the predicted sizes become the next mesh"));
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh adaptation");
+    chosen_realisation = realisation_names<dim>().value(prm.get("Realisation"));
+    prm.leave_subsection();
+    if (dim != 2 && chosen_realisation == Realisation::bisection)
+      throw InputError("Mesh adaptation/Realisation = bisection: newest-vertex "
+                       "bisection is implemented for triangles (2D) only");
+  }
+
+
+
+  template <int dim>
+  typename AdaptiveMesh<dim>::Realisation
+  AdaptiveMesh<dim>::realisation() const
+  {
+    return chosen_realisation;
+  }
+
+
+
+  template <int dim>
+  double
+  AdaptiveMesh<dim>::level_size_ratio() const
+  {
+    return chosen_realisation == Realisation::bisection ?
+             std::pow(2., -1. / dim) :
+             0.5;
+  }
+
+
+
   template <int dim>
   void
   AdaptiveMesh<dim>::initialize(const MeshInput<dim> &input,
@@ -16,6 +93,11 @@ namespace Signorini
     hierarchy.clear();
     input.create(hierarchy);
     from_input = true;
+    if (chosen_realisation == Realisation::bisection)
+      {
+        bisect(mesh, nullptr);
+        return;
+      }
     build_conforming_mesh(mesh);
   }
 
@@ -42,6 +124,11 @@ namespace Signorini
     AssertDimension(level_change.size(), hierarchy_cell_of.size());
     Assert(from_input,
            ExcMessage("remesh() rebuilds from the input: not after adopt()"));
+    if (chosen_realisation == Realisation::bisection)
+      {
+        bisect(mesh, &level_change);
+        return;
+      }
     using cell_iterator = typename Triangulation<dim>::cell_iterator;
 
     // requested level of every active cell of the current hierarchy
@@ -212,6 +299,65 @@ namespace Signorini
                  cells[cell->active_cell_index()].vertices[0],
                ExcInternalError());
       }
+  }
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::bisect(Triangulation<dim>     &mesh,
+                            const std::vector<int> *level_change)
+  {
+    if constexpr (dim == 2)
+      {
+        // the forest's roots are the input mesh, the hierarchy of level
+        // initial_level
+        if (level_change == nullptr)
+          {
+            forest.initialize(hierarchy);
+            initial_level = hierarchy.n_levels() - 1;
+          }
+        else
+          forest.refine(*level_change);
+        forest.write(mesh);
+        level_of.resize(forest.n_leaves());
+        hierarchy_cell_of.assign(forest.n_leaves(), 0);
+        for (unsigned int c = 0; c < level_of.size(); ++c)
+          level_of[c] = forest.generation(c);
+        green_cells = 0;
+      }
+    else
+      {
+        (void)mesh;
+        (void)level_change;
+        Assert(false, ExcNotImplemented());
+      }
+  }
+
+
+
+  template <int dim>
+  std::pair<std::vector<int>, unsigned int>
+  AdaptiveMesh<dim>::trial_remesh(const std::vector<int> &level_change)
+  {
+    if constexpr (dim == 2)
+      if (chosen_realisation == Realisation::bisection)
+        return forest.trial_refine(level_change);
+    (void)level_change;
+    return {};
+  }
+
+
+
+  template <int dim>
+  double
+  AdaptiveMesh<dim>::finest_halvings() const
+  {
+    const unsigned int finest =
+      *std::max_element(level_of.begin(), level_of.end());
+    return chosen_realisation == Realisation::bisection ?
+             initial_level + double(finest) / dim :
+             finest;
   }
 
 

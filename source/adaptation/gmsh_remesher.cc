@@ -5,7 +5,6 @@
 #include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/cell_locator.h>
 #include <signorini/input_error.h>
-#include <signorini/registry.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,29 +18,6 @@ namespace Signorini
 {
   namespace
   {
-    enum class Realisation
-    {
-      refinement,
-      remeshing
-    };
-
-    const NamedValues<Realisation> &
-    realisation_names()
-    {
-      static const NamedValues<Realisation> names(
-        {{"refinement",
-          Realisation::refinement,
-          "red refinement of the initial mesh in whole levels, made "
-          "conforming by green closure"},
-         {"remeshing",
-          Realisation::remeshing,
-          "the geometry meshed anew by Gmsh with the predicted sizes as a "
-          "continuous size field"}});
-      return names;
-    }
-
-
-
     /// The mesh Gmsh made, flat, as rank 0 sends it to the others.
     struct FlatMesh
     {
@@ -206,48 +182,10 @@ namespace Signorini
 
   template <int dim>
   void
-  GmshRemesher<dim>::declare_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Mesh adaptation");
-    prm.declare_entry("Realisation",
-                      realisation_names().default_name(),
-                      Patterns::Selection(realisation_names().selection()),
-                      realisation_names().help(
-                        "How the predicted sizes become the next mesh"));
-    prm.leave_subsection();
-  }
-
-
-
-  template <int dim>
-  void
-  GmshRemesher<dim>::parse_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Mesh adaptation");
-    is_enabled = realisation_names().value(prm.get("Realisation")) ==
-                 Realisation::remeshing;
-    prm.leave_subsection();
-  }
-
-
-
-  template <int dim>
-  bool
-  GmshRemesher<dim>::enabled() const
-  {
-    return is_enabled;
-  }
-
-
-
-  template <int dim>
-  void
   GmshRemesher<dim>::check_geometry(
     const MeshInput<dim>               &input,
     const std::set<types::boundary_id> &boundary_ids) const
   {
-    if (!is_enabled)
-      return;
     if (dim != 2 || (input.source != MeshInput<dim>::Source::block &&
                      input.geometry_file_name.empty()))
       throw InputError(
@@ -304,7 +242,7 @@ namespace Signorini
                             Triangulation<dim>   &mesh) const
   {
     // (check_geometry() ran at input)
-    Assert(is_enabled && dim == 2, ExcInternalError());
+    Assert(dim == 2, ExcInternalError());
     if constexpr (dim == 2)
       {
         const MPI_Comm communicator = MPI_COMM_WORLD;

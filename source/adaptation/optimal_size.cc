@@ -144,32 +144,35 @@ namespace Signorini
     const Vector<double> &eps_E = input.local_error;
     const unsigned int    n     = eps_E.size();
     const double          d     = dim;
-    // the limits per step in whole levels: r_E >= minimum_ratio, r_E <=
-    // maximum_ratio
-    const int most_halvings =
-      static_cast<int>(std::floor(std::log2(1. / minimum_ratio) + 1e-10));
-    const int fewest_halvings =
-      -static_cast<int>(std::floor(std::log2(maximum_ratio) + 1e-10));
+    // one level multiplies sizes by s = level_size_ratio, cells by s^-d and
+    // eps_E^2 by s^(2 q_E); the limits per step in whole levels:
+    // r_E >= minimum_ratio, r_E <= maximum_ratio
+    const double s        = input.level_size_ratio;
+    const double log_step = std::log(s);
+    const int    most_levels =
+      static_cast<int>(std::floor(std::log(minimum_ratio) / log_step + 1e-10));
+    const int fewest_levels = -static_cast<int>(
+      std::floor(-std::log(maximum_ratio) / log_step + 1e-10));
 
-    std::vector<int>    k(n);
+    std::vector<int>    k(n), coarsest(n);
     std::vector<double> q(n);
     double              error_squared      = 0.;
     const auto          cell_error_squared = [&](const unsigned int c,
-                                        const int          halvings) {
-      return eps_E[c] * eps_E[c] * std::pow(2., -2. * q[c] * halvings);
+                                        const int          levels) {
+      return eps_E[c] * eps_E[c] * std::pow(s, 2. * q[c] * levels);
     };
     for (unsigned int c = 0; c < n; ++c)
       {
         q[c] = input.near_singularity[c] ? singular_rate : rate;
         // (no cell becomes coarser than level 0 of the hierarchy)
-        const int coarsest =
-          input.levels == nullptr ?
-            fewest_halvings :
-            std::max(fewest_halvings, -int((*input.levels)[c]));
-        k[c] = std::clamp(static_cast<int>(std::floor(
-                            std::log2(1. / prediction.size_ratio[c]) + 1e-10)),
-                          coarsest,
-                          most_halvings);
+        coarsest[c] = input.levels == nullptr ?
+                        fewest_levels :
+                        std::max(fewest_levels, -int((*input.levels)[c]));
+        k[c] =
+          std::clamp(static_cast<int>(std::floor(
+                       std::log(prediction.size_ratio[c]) / log_step + 1e-10)),
+                     coarsest[c],
+                     most_levels);
         error_squared += cell_error_squared(c, k[c]);
       }
 
@@ -180,12 +183,12 @@ namespace Signorini
       const double decrease =
         cell_error_squared(c, k[c]) - cell_error_squared(c, k[c] + 1);
       const double added_cells =
-        std::pow(2., d * (k[c] + 1)) - std::pow(2., d * k[c]);
+        std::pow(s, -d * (k[c] + 1)) - std::pow(s, -d * k[c]);
       return std::make_pair(decrease / added_cells, c);
     };
     std::priority_queue<std::pair<double, unsigned int>> candidates;
     for (unsigned int c = 0; c < n; ++c)
-      if (k[c] < most_halvings && eps_E[c] > 0.)
+      if (k[c] < most_levels && eps_E[c] > 0.)
         candidates.push(next_halving(c));
     const double target_squared = target_error * target_error;
     while (error_squared > target_squared && !candidates.empty())
@@ -195,11 +198,11 @@ namespace Signorini
         error_squared -=
           cell_error_squared(c, k[c]) - cell_error_squared(c, k[c] + 1);
         ++k[c];
-        if (k[c] < most_halvings)
+        if (k[c] < most_levels)
           candidates.push(next_halving(c));
       }
 
-    // The last halvings taken may have overshot eps_0: undo those the
+    // The last levels taken may have overshot eps_0: undo those the
     // target does not need, the costliest first.
     std::vector<unsigned int> by_cost(n);
     for (unsigned int c = 0; c < n; ++c)
@@ -220,6 +223,54 @@ namespace Signorini
               --k[c];
             }
         }
-    return k;
+    if (!input.realised)
+      return k;
+
+    // The closure refines beyond the request, which lowers the error the
+    // model predicts: undo requested levels within the room this leaves,
+    // those with the least error increase per removed cell first, where the
+    // closure does not keep the level anyway, and realise again (a few
+    // rounds, keeping the smallest mesh that meets eps_0).
+    std::vector<int> best         = k;
+    double           fewest_cells = std::numeric_limits<double>::max();
+    for (unsigned int round = 0; round < 6; ++round)
+      {
+        const Realised          mesh     = input.realised(k);
+        const std::vector<int> &realised = mesh.level_change;
+        AssertDimension(realised.size(), n);
+        double realised_error = 0.;
+        for (unsigned int c = 0; c < n; ++c)
+          realised_error += cell_error_squared(c, realised[c]);
+        if (realised_error > target_squared * (1. + 1e-12))
+          break;
+        if (mesh.n_cells < fewest_cells)
+          {
+            fewest_cells = mesh.n_cells;
+            best         = k;
+          }
+        std::vector<std::pair<double, unsigned int>> removable;
+        for (unsigned int c = 0; c < n; ++c)
+          if (realised[c] == k[c] && k[c] > coarsest[c])
+            removable.emplace_back(
+              (cell_error_squared(c, k[c] - 1) - cell_error_squared(c, k[c])) /
+                (std::pow(s, -d * k[c]) - std::pow(s, -d * (k[c] - 1))),
+              c);
+        std::sort(removable.begin(), removable.end());
+        bool undone = false;
+        for (const auto &[ratio, c] : removable)
+          {
+            const double increase =
+              cell_error_squared(c, k[c] - 1) - cell_error_squared(c, k[c]);
+            if (realised_error + increase <= target_squared)
+              {
+                realised_error += increase;
+                --k[c];
+                undone = true;
+              }
+          }
+        if (!undone)
+          break;
+      }
+    return best;
   }
 } // namespace Signorini

@@ -29,14 +29,16 @@ namespace Signorini
 
 
   std::vector<int>
-  SizePredictor::level_changes(const Input &,
+  SizePredictor::level_changes(const Input      &input,
                                const Prediction &prediction,
                                const double) const
   {
-    const Vector<double> &r = prediction.size_ratio;
+    const Vector<double> &r        = prediction.size_ratio;
+    const double          log_step = std::log(input.level_size_ratio);
     std::vector<int>      changes(r.size());
     for (unsigned int c = 0; c < r.size(); ++c)
-      changes[c] = static_cast<int>(std::ceil(std::log2(1. / r[c]) - 1e-10));
+      changes[c] =
+        static_cast<int>(std::ceil(std::log(r[c]) / log_step - 1e-10));
     return changes;
   }
 

@@ -20,8 +20,8 @@ namespace Signorini
    * meshed anew by Gmsh (its C++ API, Frontal-Delaunay), the element size
    * at a point given by the predicted sizes of the current mesh, so that
    * sizes are continuous, may grow beyond the initial mesh's and need no
-   * closure. Chosen by Mesh adaptation/Realisation = remeshing; the other
-   * realisation is red refinement with green closure (AdaptiveMesh).
+   * closure. Chosen by Mesh adaptation/Realisation = remeshing; the others
+   * refine the initial mesh (AdaptiveMesh).
    *
    * The size field: a cell E of area |E| asked to shrink by r_E should
    * become triangles of about r_E^-2 per area |E| (N* = sum_E r_E^-2), i.e.
@@ -41,17 +41,6 @@ namespace Signorini
   class GmshRemesher
   {
   public:
-    /// Mesh adaptation/Realisation
-    static void
-    declare_parameters(ParameterHandler &prm);
-
-    void
-    parse_parameters(ParameterHandler &prm);
-
-    /// Is remeshing the chosen realisation?
-    bool
-    enabled() const;
-
     /// Throws InputError if @p input has no geometry to remesh, or if a
     /// .geo lacks a physical curve for one of the @p boundary_ids in use.
     void
@@ -64,9 +53,6 @@ namespace Signorini
     remesh(const MeshInput<dim> &input,
            const Vector<double> &size_ratio,
            Triangulation<dim>   &mesh) const;
-
-  private:
-    bool is_enabled = false;
   };
 } // namespace Signorini
 

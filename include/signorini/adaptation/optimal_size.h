@@ -47,17 +47,18 @@ namespace Signorini
     predict(const Input &input, const double target_error) const override;
 
     /**
-     * The optimal sizes in whole levels, as few cells as the error model
-     * allows: rounding every r_E down to a power of two (ceil of the
-     * halvings) meets eps_0 with about twice the cells of N*. Instead start
-     * from the coarser rounding, k_E = floor(log2(1 / r_E)) within the limits
-     * per step, and add halvings one at a time to the cell whose error decrease
-     * per added cell, eps_E^2 2^(-2 q_E k_E) (1 - 2^(-2 q_E)) / (2^(d (k_E +
-     * 1)) - 2^(d k_E)), is largest, until the predicted error sum_E eps_E^2
-     * 2^(-2 q_E k_E) reaches eps_0^2 (marginal analysis: the ratio decreases
-     * with k_E, so each step takes the cheapest error decrease left), then
-     * undo the halvings the last steps made unnecessary. The count sum_E
-     * 2^(d k_E) then lies close to N* (doc/adaptation.md).
+     * The optimal sizes in whole levels of size ratio s (1/2 for red
+     * refinement), as few cells as the error model allows: rounding every
+     * r_E down to a power of s meets eps_0 with up to s^-d times the cells
+     * of N*. Instead start from the coarser rounding, k_E = floor(log r_E /
+     * log s) within the limits per step, and add levels one at a time to the
+     * cell whose error decrease per added cell, eps_E^2 s^(2 q_E k_E) (1 -
+     * s^(2 q_E)) / (s^(-d (k_E + 1)) - s^(-d k_E)), is largest, until the
+     * predicted error sum_E eps_E^2 s^(2 q_E k_E) reaches eps_0^2 (marginal
+     * analysis: the ratio decreases with k_E, so each step takes the
+     * cheapest error decrease left), then undo the levels the last steps
+     * made unnecessary. The count sum_E s^(-d k_E) then lies close to N*
+     * (doc/adaptation.md).
      */
     std::vector<int>
     level_changes(const Input      &input,

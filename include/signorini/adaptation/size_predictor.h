@@ -7,6 +7,7 @@
 
 #include <signorini/registry.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,16 @@ namespace Signorini
   class SizePredictor
   {
   public:
+    /// A mesh a request of level changes would give.
+    struct Realised
+    {
+      /// per cell of the current mesh, the smallest level change within its
+      /// region
+      std::vector<int> level_change;
+      /// its number of cells
+      unsigned int n_cells;
+    };
+
     /// Local data of the current mesh, one entry per active cell.
     struct Input
     {
@@ -36,6 +47,12 @@ namespace Signorini
       /// the level of each cell in the refinement hierarchy (AdaptiveMesh):
       /// no cell becomes coarser than level 0 (none given: no such bound)
       const std::vector<unsigned int> *levels = nullptr;
+      /// h_child / h_parent of one level of the hierarchy: 1/2 for red
+      /// refinement, 2^(-1/d) for bisection
+      double level_size_ratio = 0.5;
+      /// What the realisation makes of a request of level changes, closure
+      /// included (empty: not known)
+      std::function<Realised(const std::vector<int> &)> realised = {};
     };
 
     /// The predicted mesh.
@@ -71,9 +88,10 @@ namespace Signorini
 
     /**
      * The prediction realised in whole refinement levels: per cell of the
-     * current mesh, how many times more (or, negative, fewer) its region is
-     * halved, r_E ~ 2^-k_E. By default k_E = ceil(log2(1 / r_E)), never
-     * coarser than asked; a predictor with an error model may choose
+     * current mesh, how many levels more (or, negative, fewer) its region is
+     * refined, r_E ~ s^k_E with s the level size ratio (1/2 for red
+     * refinement). By default k_E = ceil(log(r_E) / log(s)), never coarser
+     * than asked; a predictor with an error model may choose
      * better (OptimalSizePredictor).
      */
     virtual std::vector<int>
