@@ -194,8 +194,10 @@ namespace Signorini
                                      const bool             with_local) const
   {
     // the fields on the reference mesh: exact where it refines the mesh of
-    // the computation (uniform cycles), nodal interpolation across the green
-    // edges of an adapted mesh
+    // the computation (uniform cycles, the last mesh of a final-mesh
+    // reference), nodal interpolation elsewhere (across the green edges of
+    // red refinement; a bisected mesh is never nested in a red-refined
+    // initial mesh)
     const LA::Vector &u_ref        = reference->displacement();
     const auto        on_reference = [&](const Vector<double> &u) {
       const Vector<double> fine =
