@@ -189,6 +189,31 @@ namespace Signorini
                         Patterns::Double(1e-16, 1e-2),
                         "CG stops when the residual is below this fraction of "
                         "the right-hand side.");
+      prm.enter_subsection("AMG");
+      {
+        prm.declare_entry("Null space",
+                          "rigid motions",
+                          Patterns::Selection("rigid motions|translations"),
+                          "Near null space of the aggregates: the rigid "
+                          "motions (translations and rotations) or the "
+                          "translations only.");
+        prm.declare_entry("Aggregation threshold",
+                          "0",
+                          Patterns::Double(0., 1.),
+                          "Matrix entries below this fraction of the "
+                          "diagonal are dropped when aggregating (ML's "
+                          "aggregation: threshold).");
+        prm.declare_entry("Smoother sweeps",
+                          "1",
+                          Patterns::Integer(1, 10),
+                          "Chebyshev smoother sweeps before and after each "
+                          "coarse correction.");
+        prm.declare_entry("W-cycle",
+                          "true",
+                          Patterns::Bool(),
+                          "W-cycles (true) or V-cycles (false).");
+      }
+      prm.leave_subsection();
       prm.declare_entry("Maximum iterations",
                         "5000",
                         Patterns::Integer(1),
@@ -209,6 +234,12 @@ namespace Signorini
       direct_package      = prm.get("Direct solver package");
       relative_tolerance  = prm.get_double("Relative tolerance");
       max_iterations      = prm.get_integer("Maximum iterations");
+      prm.enter_subsection("AMG");
+      with_rotations        = prm.get("Null space") == "rigid motions";
+      aggregation_threshold = prm.get_double("Aggregation threshold");
+      smoother_sweeps       = prm.get_integer("Smoother sweeps");
+      w_cycle               = prm.get_bool("W-cycle");
+      prm.leave_subsection();
     }
     prm.leave_subsection();
     // the Selection names every package Amesos knows; which of them this
@@ -240,8 +271,10 @@ namespace Signorini
     const LA::SparseMatrix                     &stiffness,
     const LA::SparseMatrix                     &condensed_stiffness,
     const std::vector<std::vector<bool>>       &constant_modes,
+    const std::vector<LA::Vector>              &motions,
     const std::vector<types::global_dof_index> &supports)
   {
+    rigid_motions     = &motions;
     stiffness_matrix  = &stiffness;
     condensed_matrix  = &condensed_stiffness;
     translation_modes = constant_modes;
@@ -337,11 +370,35 @@ namespace Signorini
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
         data.higher_order_elements = false;
-        data.smoother_sweeps       = 2;
-        data.aggregation_threshold = 0.02;
+        data.smoother_sweeps       = smoother_sweeps;
+        data.aggregation_threshold = aggregation_threshold;
+        data.w_cycle               = w_cycle;
         data.constant_modes        = translation_modes;
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-        amg->initialize(matrix, data);
+        if (!with_rotations || rigid_motions == nullptr ||
+            rigid_motions->empty())
+          {
+            amg->initialize(matrix, data);
+            return;
+          }
+        // ML aggregates best when its near null space holds the rotations
+        // too (deal.II 9.4 passes translations only): replace the null space
+        // of deal.II's parameter list by the rigid motions
+        Teuchos::ParameterList              parameters;
+        std::unique_ptr<Epetra_MultiVector> translations;
+        data.set_parameters(parameters, translations, matrix);
+        const Epetra_Map &map = matrix.trilinos_matrix().OperatorDomainMap();
+        null_space =
+          std::make_unique<Epetra_MultiVector>(map, rigid_motions->size());
+        for (unsigned int m = 0; m < rigid_motions->size(); ++m)
+          for (int i = 0; i < map.NumMyElements(); ++i)
+            (*null_space)[m][i] =
+              (*rigid_motions)[m][static_cast<types::global_dof_index>(
+                map.GID(i))];
+        parameters.set("null space: type", "pre-computed");
+        parameters.set("null space: dimension", null_space->NumVectors());
+        parameters.set("null space: vectors", null_space->Values());
+        amg->initialize(matrix, parameters);
       }
   }
 

@@ -9,6 +9,7 @@
 
 #include <signorini/linear_algebra.h>
 
+#include <Epetra_MultiVector.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,7 +59,9 @@ namespace Signorini
      * @p stiffness is the unconstrained K (singular without its constraints),
      * @p condensed_stiffness the same matrix condensed with the base
      * constraints (hanging nodes, Dirichlet); @p constant_modes the
-     * translation modes per component, for AMG. The preconditioners
+     * translation modes per component and @p rigid_motions the translations
+     * then rotations as vectors, the near null space of AMG (Linear
+     * solver/AMG/Null space). The preconditioners
      * always eliminate @p support_dofs (see RigidMotions): with them the
      * base-condensed matrix is invertible even for a body held only by the
      * contact, whose operators differ from it by a low-rank term.
@@ -67,6 +70,7 @@ namespace Signorini
     initialize(const LA::SparseMatrix                     &stiffness,
                const LA::SparseMatrix                     &condensed_stiffness,
                const std::vector<std::vector<bool>>       &constant_modes,
+               const std::vector<LA::Vector>              &rigid_motions,
                const std::vector<types::global_dof_index> &support_dofs = {});
 
     /**
@@ -122,6 +126,18 @@ namespace Signorini
     LA::SparseMatrix modified_matrix;
     /// Translation modes per component, for AMG
     std::vector<std::vector<bool>> translation_modes;
+    /// Translations and rotations, the near null space of AMG
+    const std::vector<LA::Vector> *rigid_motions = nullptr;
+    /// Linear solver/AMG: give AMG the rotations too?
+    bool with_rotations = true;
+    /// Linear solver/AMG: ML's aggregation threshold
+    double aggregation_threshold = 0.;
+    /// Linear solver/AMG: smoother sweeps
+    unsigned int smoother_sweeps = 1;
+    /// Linear solver/AMG: W-cycles rather than V-cycles?
+    bool w_cycle = true;
+    /// The near null space handed to ML (which reads it at setup)
+    std::unique_ptr<Epetra_MultiVector> null_space;
     /// Dofs that hold the free rigid motions (always eliminated)
     std::vector<types::global_dof_index> support_dofs;
     /// The dofs eliminated in the current preconditioner
