@@ -1,4 +1,3 @@
-#include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 
@@ -6,8 +5,6 @@
 
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
-
-#include <deal.II/grid/grid_tools.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
@@ -18,7 +15,6 @@
 #include <signorini/input_error.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -304,51 +300,6 @@ namespace Signorini
 
 
   template <int dim>
-  std::vector<LA::Vector>
-  ContactComputation<dim>::rigid_motions_as_vectors() const
-  {
-    // translations, then rotations about the centre of the mesh's bounding
-    // box (for the conditioning of ML's aggregate bases)
-    const BoundingBox<dim> box =
-      GridTools::compute_bounding_box(dofs.get_triangulation());
-    const Point<dim>        centre = box.center();
-    constexpr unsigned int  n      = dim * (dim + 1) / 2;
-    std::vector<LA::Vector> motions(n,
-                                    LA::Vector(locally_owned_dofs,
-                                               mpi_communicator));
-    for (const auto &cell : dofs.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        {
-          const Tensor<1, dim> x = cell->vertex(v) - centre;
-          // the velocity of each rigid motion at x, per component
-          std::array<Tensor<1, dim>, n> velocity;
-          for (unsigned int d = 0; d < dim; ++d)
-            velocity[d][d] = 1.;
-          if constexpr (dim == 2)
-            velocity[2] = Tensor<1, dim>({-x[1], x[0]});
-          else
-            for (unsigned int axis = 0; axis < dim; ++axis)
-              {
-                Tensor<1, dim> e;
-                e[axis]              = 1.;
-                velocity[dim + axis] = cross_product_3d(e, x);
-              }
-          for (unsigned int c = 0; c < dim; ++c)
-            {
-              const types::global_dof_index dof = cell->vertex_dof_index(v, c);
-              if (locally_owned_dofs.is_element(dof))
-                for (unsigned int m = 0; m < n; ++m)
-                  motions[m][dof] = velocity[m][c];
-            }
-        }
-    for (auto &motion : motions)
-      motion.compress(VectorOperation::insert);
-    return motions;
-  }
-
-
-
-  template <int dim>
   void
   ContactComputation<dim>::solve()
   {
@@ -359,11 +310,10 @@ namespace Signorini
       DoFTools::extract_constant_modes(dofs,
                                        ComponentMask(dim, true),
                                        constant_modes);
-      rigid_motion_vectors = rigid_motions_as_vectors();
       elasticity_solver.initialize(stiffness,
                                    condensed_stiffness,
                                    constant_modes,
-                                   rigid_motion_vectors,
+                                   rigid_motions.all_motions(),
                                    rigid_motions.support_dofs());
     }
     setup_timer.stop();

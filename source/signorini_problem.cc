@@ -231,18 +231,23 @@ namespace Signorini
 
     // h*_E = r_E h_E in whole levels: the region of E is refined k_E times
     // beyond the level of E (fewer than its level if k_E < 0)
-    const double         level_ratio = adaptive_mesh.level_size_ratio();
+    const double level_ratio = adaptive_mesh.level_size_ratio();
+    // cells of the refined cells alone, before any closure
+    const auto cells_asked = [level_ratio](const std::vector<int> &change) {
+      double cells = 0.;
+      for (const int k : change)
+        cells += std::pow(level_ratio, -double(dim) * std::max(k, 0));
+      return cells;
+    };
     SizePredictor::Input input{local_error,
                                near_singularity,
                                &adaptive_mesh.levels(),
                                level_ratio};
     if (adaptive_mesh.realisation() ==
         AdaptiveMesh<dim>::Realisation::bisection)
-      input.realised = [this, level_ratio](const std::vector<int> &change) {
+      input.realised = [&](const std::vector<int> &change) {
         // a request beyond Maximum cells is not tried (it is refused below)
-        double requested = 0.;
-        for (const int k : change)
-          requested += std::pow(level_ratio, -double(dim) * std::max(k, 0));
+        const double requested = cells_asked(change);
         if (requested > max_cells)
           return SizePredictor::Realised{
             change, static_cast<unsigned int>(std::min(requested, 4e9))};
@@ -262,10 +267,7 @@ namespace Signorini
     // This bounded the built mesh within 20 % on the block (optimal size,
     // fixed fraction); the check after the build is exact.
     const auto &levels          = adaptive_mesh.levels();
-    double      requested_cells = 0.;
-    for (const int change : level_change)
-      requested_cells +=
-        std::pow(level_ratio, -double(dim) * std::max(change, 0));
+    double      requested_cells = cells_asked(level_change);
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (!cell->at_boundary(f) &&

@@ -167,11 +167,6 @@ namespace Signorini
     linear_solver() const;
 
   private:
-    /// The dim (dim + 1) / 2 rigid motions of R^dim (translations, then
-    /// rotations) as vectors of the current dofs.
-    std::vector<LA::Vector>
-    rigid_motions_as_vectors() const;
-
     /// The active set of the previous solve carried to the current contact
     /// nodes (empty if there is none or the option is off).
     std::vector<bool>
@@ -213,8 +208,6 @@ namespace Signorini
     AffineConstraints<double> homogeneous_constraints;
     // The rigid motions the Dirichlet data leave to the contact
     RigidMotions<dim> rigid_motions;
-    // All rigid motions as vectors: the near null space of AMG
-    std::vector<LA::Vector> rigid_motion_vectors;
 
     // Linear algebra and results
     LA::SparseMatrix  stiffness;

@@ -121,7 +121,7 @@ namespace Signorini
                             const std::vector<int> &level_change,
                             Triangulation<dim>     &mesh)
   {
-    AssertDimension(level_change.size(), hierarchy_cell_of.size());
+    AssertDimension(level_change.size(), level_of.size());
     Assert(from_input,
            ExcMessage("remesh() rebuilds from the input: not after adopt()"));
     if (chosen_realisation == Realisation::bisection)
@@ -321,7 +321,7 @@ namespace Signorini
           forest.refine(*level_change);
         forest.write(mesh);
         level_of.resize(forest.n_leaves());
-        hierarchy_cell_of.assign(forest.n_leaves(), 0);
+        hierarchy_cell_of.clear(); // (no hierarchy cells: red refinement's)
         for (unsigned int c = 0; c < level_of.size(); ++c)
           level_of[c] = forest.generation(c);
         green_cells = 0;

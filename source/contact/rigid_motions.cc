@@ -97,6 +97,14 @@ namespace Signorini
     Utilities::MPI::sum(gram, comm, gram);
     basis = null_space_of_gram(gram, 1e-10);
 
+    motions.assign(n_rigid_motions, LA::Vector(owned, comm));
+    for (unsigned int k = 0; k < n_rigid_motions; ++k)
+      {
+        for (const auto dof : owned)
+          motions[k][dof] = rigid_motion(k, position[dof])[component[dof]];
+        motions[k].compress(VectorOperation::insert);
+      }
+
     modes.clear();
     for (unsigned int j = 0; j < basis.n(); ++j)
       {
@@ -212,6 +220,15 @@ namespace Signorini
   RigidMotions<dim>::mode(const unsigned int j) const
   {
     return modes[j];
+  }
+
+
+
+  template <int dim>
+  const std::vector<LA::Vector> &
+  RigidMotions<dim>::all_motions() const
+  {
+    return motions;
   }
 
 

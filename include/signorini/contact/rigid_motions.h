@@ -70,6 +70,12 @@ namespace Signorini
     const LA::Vector &
     mode(const unsigned int j) const;
 
+    /// All dim (dim + 1) / 2 rigid motions of R^dim (translations, then
+    /// rotations), free or not, as nodal displacement vectors: the near
+    /// null space of AMG.
+    const std::vector<LA::Vector> &
+    all_motions() const;
+
     /// One dof per free motion such that fixing them stops every free motion.
     const std::vector<types::global_dof_index> &
     support_dofs() const;
@@ -96,6 +102,7 @@ namespace Signorini
     /// Columns: the free motions in the basis of the rigid motions of R^dim.
     FullMatrix<double>                   basis;
     std::vector<LA::Vector>              modes;
+    std::vector<LA::Vector>              motions;
     std::vector<types::global_dof_index> supports;
   };
 } // namespace Signorini
