@@ -18,6 +18,7 @@ Usage: bench/contact_bench.py [--max-level 7] [--build build] [--repeat 1]
 import argparse
 import csv
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -44,10 +45,15 @@ def run_case(exe, overrides, workdir):
             f.write(f"set {parts[-1]} = {value}\n")
             for _ in parts[:-1]:
                 f.write("end\n")
-    process = subprocess.Popen([exe, prm], stdout=subprocess.DEVNULL,
-                               stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(process.pid, 0)
-    process.returncode = os.waitstatus_to_exitcode(status)
+    shutil.rmtree(out, ignore_errors=True)  # (no stale results)
+    with tempfile.TemporaryFile() as errors:
+        process = subprocess.Popen([exe, prm], stdout=subprocess.DEVNULL,
+                                   stderr=errors)
+        _, status, usage = os.wait4(process.pid, 0)
+        if os.waitstatus_to_exitcode(status) != 0:
+            errors.seek(0)
+            sys.exit(f"{prm} {overrides} failed:\n"
+                     + errors.read().decode(errors="replace"))
     with open(os.path.join(out, "statistics.csv")) as f:
         rows = list(csv.DictReader(f))
     return rows[-1], usage.ru_maxrss / 1024.0
@@ -104,7 +110,8 @@ def main():
             contact = dict(mesh, **{"Contact/Condition": condition})
             variants = {
                 "as_cold": dict(contact, **{
-                    "Contact/Initial active set from previous cycle": "false"}),
+                    "Contact/Initial active set from previous cycle": "false",
+                    "Contact/Nested start": "false"}),
                 "as_nested": dict(contact, **{
                     "Mesh/Initial refinements": str(max(level - 1, 0)),
                     "Number of cycles": "2" if level > 0 else "1"}),

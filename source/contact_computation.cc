@@ -11,8 +11,11 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <deal.II/distributed/shared_tria.h>
+
 #include <signorini/contact_computation.h>
 #include <signorini/input_error.h>
+#include <signorini/nodal_interpolation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,6 +47,21 @@ namespace Signorini
                       "(feasibility, multiplier sign, complementarity, "
                       "residual, resultant) exceed this has failed (exit code "
                       "2), whatever its solver reports.");
+    prm.declare_entry("Nested start",
+                      "true",
+                      Patterns::Bool(),
+                      "On the input mesh (the first cycle, a reference on the "
+                      "initial mesh) and unless it starts from a previous "
+                      "mesh, compute first on the input mesh with fewer "
+                      "initial refinements, each computation started from "
+                      "the one before, and start the active set method from "
+                      "the last (Frank-Wolfe: no effect).");
+    prm.declare_entry("Nested start cells",
+                      "2000",
+                      Patterns::Integer(1),
+                      "The first mesh of the nested start is the finest one "
+                      "with at most this many cells (the input mesh itself "
+                      "if it has more); a mesh this small starts cold.");
     prm.leave_subsection();
   }
 
@@ -52,6 +70,15 @@ namespace Signorini
   template <int dim>
   ContactComputation<dim>::ContactComputation(ParameterHandler &prm,
                                               TimerOutput      &timer)
+    : ContactComputation(prm, timer, /*with_nested_start=*/true)
+  {}
+
+
+
+  template <int dim>
+  ContactComputation<dim>::ContactComputation(ParameterHandler &prm,
+                                              TimerOutput      &timer,
+                                              const bool with_nested_start)
     : timer(timer)
     , mpi_communicator(MPI_COMM_WORLD)
     , fe(FE_SimplexP<dim>(1), dim)
@@ -63,7 +90,10 @@ namespace Signorini
     prm.enter_subsection("Contact");
     guess_from_previous_cycle =
       prm.get_bool("Initial active set from previous cycle");
-    check_tolerance = prm.get_double("Check tolerance");
+    check_tolerance    = prm.get_double("Check tolerance");
+    nested_start_cells = prm.get_integer("Nested start cells");
+    const bool nested  = with_nested_start && prm.get_bool("Nested start");
+    parameters         = &prm;
     prm.leave_subsection();
     contact_condition = ContactCondition<dim>::registry().create(prm);
     contact_solver    = ContactSolver<dim>::registry().create(prm);
@@ -73,6 +103,8 @@ namespace Signorini
       if (gamma_c.boundary_ids().count(id) != 0)
         throw InputError("boundary id " + std::to_string(id) +
                          " is both a contact id and a Dirichlet/traction id");
+
+    nested_start = nested && contact_solver->uses_initial_active_set();
   }
 
 
@@ -108,6 +140,7 @@ namespace Signorini
                                  const Function<dim>      *exact_solution)
   {
     TimerOutput::Scope t(timer, "setup");
+    nested_start_input.reset();
     check_boundary_ids(mesh);
     boundary_data.check_finite(mapping_fe, mesh, exact_solution);
     dofs.reinit(mesh);
@@ -169,7 +202,6 @@ namespace Signorini
                                                relevant_dofs);
     const IndexSet &owned = locally_owned_dofs;
     stiffness.reinit(owned, owned, dsp, mpi_communicator);
-    condensed_stiffness.reinit(owned, owned, dsp, mpi_communicator);
     load.reinit(owned, mpi_communicator);
     solution.reinit(owned, mpi_communicator);
   }
@@ -204,9 +236,8 @@ namespace Signorini
     std::vector<Vector<double>>          traction_values(face_quadrature.size(),
                                                 Vector<double>(dim));
 
-    stiffness           = 0.;
-    condensed_stiffness = 0.;
-    load                = 0.;
+    stiffness = 0.;
+    load      = 0.;
     for (const auto &cell : dofs.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
@@ -253,12 +284,8 @@ namespace Signorini
         cell->get_dof_indices(dof_indices);
         stiffness.add(dof_indices, cell_matrix);
         load.add(dof_indices, cell_rhs);
-        constraints.distribute_local_to_global(cell_matrix,
-                                               dof_indices,
-                                               condensed_stiffness);
       }
     stiffness.compress(VectorOperation::add);
-    condensed_stiffness.compress(VectorOperation::add);
     load.compress(VectorOperation::add);
 
     // Finite data can still overflow in the products of the solve (|F|^2,
@@ -303,6 +330,19 @@ namespace Signorini
   void
   ContactComputation<dim>::solve()
   {
+    last_summary.nested_meshes     = 0;
+    last_summary.nested_iterations = 0;
+    last_summary.nested_seconds    = 0.;
+    last_summary.nested_failure.clear();
+    solution        = 0.;
+    bool from_state = guess_from_previous_cycle && !last_contact_state.empty();
+    if (!from_state && nested_start && nested_start_input &&
+        gamma_c.n_nodes() > 0)
+      {
+        start_from_coarser_meshes();
+        from_state = (last_summary.nested_meshes > 0);
+      }
+
     Timer setup_timer;
     {
       TimerOutput::Scope             t(timer, "linear solver setup");
@@ -311,7 +351,7 @@ namespace Signorini
                                        ComponentMask(dim, true),
                                        constant_modes);
       elasticity_solver.initialize(stiffness,
-                                   condensed_stiffness,
+                                   constraints,
                                    constant_modes,
                                    rigid_motions.all_motions(),
                                    rigid_motions.support_dofs());
@@ -323,11 +363,12 @@ namespace Signorini
     Timer solve_timer;
     {
       TimerOutput::Scope t(timer, "contact solve");
-      solution            = 0.;
-      last_summary.report = contact_solver->solve(problem,
-                                                  solution,
-                                                  dual_solution,
-                                                  initial_active_set_guess());
+      last_summary.report =
+        contact_solver->solve(problem,
+                              solution,
+                              dual_solution,
+                              from_state ? initial_active_set_guess() :
+                                           std::vector<bool>());
     }
     solve_timer.stop();
 
@@ -373,7 +414,8 @@ namespace Signorini
                                          dof_component);
     last_summary.energy        = problem.energy(solution);
     last_summary.setup_seconds = setup_timer.wall_time();
-    last_summary.solve_seconds = solve_timer.wall_time();
+    last_summary.solve_seconds =
+      solve_timer.wall_time() + last_summary.nested_seconds;
     judge_solution();
   }
 
@@ -410,7 +452,7 @@ namespace Signorini
   ContactComputation<dim>::initial_active_set_guess() const
   {
     const ContactState &previous = last_contact_state;
-    if (!guess_from_previous_cycle || previous.empty())
+    if (previous.empty())
       return {};
     // A node of the new mesh is either a node of the previous one (keep its
     // state) or lies between two of them (active if both were).
@@ -441,6 +483,100 @@ namespace Signorini
             (by_distance[0].second && by_distance[n_nearest - 1].second);
       }
     return guess;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::enable_nested_start(const MeshInput<dim> &input)
+  {
+    nested_start_input = input;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::start_from_coarser_meshes()
+  {
+    const MeshInput<dim> &input      = *nested_start_input;
+    const unsigned int    fine_level = input.initial_refinements;
+    // each refinement multiplies the cells by 2^dim
+    const double fine_cells = dofs.get_triangulation().n_global_active_cells();
+    const auto   n_cells    = [&](const unsigned int level) {
+      return fine_cells /
+             Utilities::fixed_power<dim>(std::pow(2., fine_level - level));
+    };
+    unsigned int first_level = fine_level;
+    while (first_level > 0 && n_cells(first_level) > nested_start_cells)
+      --first_level;
+    if (first_level == fine_level)
+      return;
+
+    Timer nested_timer;
+    // The meshes are declared before the computation on them, so that its
+    // DoFHandler is gone before they are (also when a step throws); they
+    // are distributed as the current mesh.
+    const auto *shared =
+      dynamic_cast<const parallel::shared::Triangulation<dim> *>(
+        &dofs.get_triangulation());
+    std::vector<std::unique_ptr<Triangulation<dim>>> meshes;
+    std::unique_ptr<ContactComputation<dim>>         coarse;
+    try
+      {
+        coarse.reset(new ContactComputation<dim>(*parameters,
+                                                 timer,
+                                                 /*with_nested_start=*/false));
+        // (the chain of coarser meshes is the point)
+        coarse->guess_from_previous_cycle = true;
+        for (unsigned int level = first_level; level < fine_level; ++level)
+          {
+            MeshInput<dim> coarser      = input;
+            coarser.initial_refinements = level;
+            if (shared != nullptr)
+              meshes.push_back(
+                std::make_unique<parallel::shared::Triangulation<dim>>(
+                  shared->get_communicator(),
+                  shared->get_mesh_smoothing(),
+                  shared->with_artificial_cells(),
+                  parallel::shared::Triangulation<dim>::partition_metis));
+            else
+              meshes.push_back(std::make_unique<Triangulation<dim>>());
+            coarser.create(*meshes.back());
+            coarse->setup(*meshes.back());
+            coarse->assemble();
+            coarse->solve();
+            ++last_summary.nested_meshes;
+            last_summary.nested_iterations +=
+              coarse->summary().report.iterations;
+          }
+        last_contact_state = coarse->contact_state();
+        // the displacement too: the first solves start closer
+        const Vector<double> fine =
+          interpolate_at_vertices(coarse->dof_handler(),
+                                  replicate(coarse->displacement()),
+                                  dofs);
+        for (const auto i : locally_owned_dofs)
+          solution[i] = fine[i];
+        solution.compress(VectorOperation::insert);
+      }
+    catch (const std::runtime_error &exc)
+      {
+        // Input errors and solver failures happen on every rank alike (the
+        // same data, the same algorithm): a cold start still solves the
+        // problem, and a real input error reappears there. (Anything else,
+        // e.g. an allocation failure on one rank, is not caught: the other
+        // ranks would wait for this one.)
+        last_summary.nested_failure    = exc.what();
+        last_summary.nested_meshes     = 0;
+        last_summary.nested_iterations = 0;
+        last_contact_state.clear();
+        solution = 0.;
+      }
+    coarse.reset();
+    meshes.clear();
+    last_summary.nested_seconds = nested_timer.wall_time();
   }
 
 

@@ -111,7 +111,8 @@ namespace Signorini
       mutable LA::Vector      ghosted;
     };
 
-    /// Id_c + (P^{-1} restricted to the free dofs), P the base-condensed K.
+    /// Id_c + (P^{-1} restricted to the free dofs), P = K with the
+    /// constrained dofs eliminated.
     template <typename Inner>
     class ConstrainedPreconditioner
     {
@@ -269,21 +270,27 @@ namespace Signorini
   void
   ElasticitySolver::initialize(
     const LA::SparseMatrix                     &stiffness,
-    const LA::SparseMatrix                     &condensed_stiffness,
+    const AffineConstraints<double>            &base_constraints,
     const std::vector<std::vector<bool>>       &constant_modes,
     const std::vector<LA::Vector>              &motions,
     const std::vector<types::global_dof_index> &supports)
   {
-    rigid_motions     = &motions;
-    stiffness_matrix  = &stiffness;
-    condensed_matrix  = &condensed_stiffness;
-    translation_modes = constant_modes;
-    support_dofs      = supports;
+    rigid_motions        = &motions;
+    stiffness_matrix     = &stiffness;
+    translation_modes    = constant_modes;
+    base_eliminated_dofs = supports;
+    for (const auto &line : base_constraints.get_lines())
+      base_eliminated_dofs.push_back(line.index);
+    std::sort(base_eliminated_dofs.begin(), base_eliminated_dofs.end());
+    base_eliminated_dofs.erase(std::unique(base_eliminated_dofs.begin(),
+                                           base_eliminated_dofs.end()),
+                               base_eliminated_dofs.end());
     use_direct =
       (type == Type::direct) ||
       (type == Type::automatic && stiffness.m() <= direct_solver_limit);
+    direct.reset();
+    amg.reset();
     current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
-    update_preconditioner({});
   }
 
 
@@ -292,27 +299,22 @@ namespace Signorini
   ElasticitySolver::update_preconditioner(
     const std::vector<types::global_dof_index> &active_dofs)
   {
-    Assert(condensed_matrix != nullptr, ExcNotInitialized());
+    Assert(stiffness_matrix != nullptr, ExcNotInitialized());
     std::vector<types::global_dof_index> eliminated_dofs(active_dofs);
-    eliminated_dofs.insert(eliminated_dofs.end(),
-                           support_dofs.begin(),
-                           support_dofs.end());
+    std::sort(eliminated_dofs.begin(), eliminated_dofs.end());
     if (eliminated_dofs == current_eliminated_dofs)
       return;
-    current_eliminated_dofs = eliminated_dofs;
-    if (eliminated_dofs.empty())
-      {
-        build_preconditioner(*condensed_matrix);
-        return;
-      }
-    modified_matrix.copy_from(*condensed_matrix);
     // zero the rows and columns of the eliminated dofs in the rows this rank
-    // owns (the list is the same on every rank)
-    std::vector<bool> eliminated(condensed_matrix->n(), false);
+    // owns (the lists are the same on every rank); the matrix is copied again
+    // each time, so that restored rows get their entries back
+    std::vector<bool> eliminated(stiffness_matrix->n(), false);
+    for (const auto dof : base_eliminated_dofs)
+      eliminated[dof] = true;
     for (const auto dof : eliminated_dofs)
       eliminated[dof] = true;
+    modified_matrix.copy_from(*stiffness_matrix);
     // (Epetra's row views: deal.II's row iterators copy each row)
-    const Epetra_CrsMatrix &source = condensed_matrix->trilinos_matrix();
+    const Epetra_CrsMatrix &source = stiffness_matrix->trilinos_matrix();
     std::vector<types::global_dof_index> columns;
     std::vector<double>                  zeros;
     for (int local_row = 0; local_row < source.NumMyRows(); ++local_row)
@@ -336,6 +338,7 @@ namespace Signorini
       }
     modified_matrix.compress(VectorOperation::insert);
     build_preconditioner(modified_matrix);
+    current_eliminated_dofs = eliminated_dofs; // (once built)
   }
 
 
@@ -408,9 +411,11 @@ namespace Signorini
   ElasticitySolver::solve(const AffineConstraints<double> &constraints,
                           const LA::Vector                &load,
                           LA::Vector                      &solution,
-                          const double                     tolerance_) const
+                          const double                     tolerance_)
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
+    if (!direct && !amg)
+      update_preconditioner({});
     const DistributedLines lines(constraints.get_lines(),
                                  load.locally_owned_elements());
     // right-hand side C^T (f - K k) + Id_c k
@@ -464,6 +469,20 @@ namespace Signorini
       }
     constraints.distribute(solution);
     return control.last_step();
+  }
+
+
+
+  void
+  ElasticitySolver::clear()
+  {
+    direct.reset();
+    amg.reset();
+    null_space.reset();
+    modified_matrix.clear();
+    stiffness_matrix        = nullptr;
+    rigid_motions           = nullptr;
+    current_eliminated_dofs = {numbers::invalid_dof_index};
   }
 
 

@@ -117,7 +117,9 @@ namespace Signorini
     MeshInput<dim> fine_input      = input;
     fine_input.initial_refinements = levels;
     adaptive_mesh.initialize(fine_input, triangulation);
+    adaptive_mesh.release_hierarchy();
     reference->setup(triangulation);
+    reference->enable_nested_start(fine_input);
     reference->assemble();
     reference->solve();
     is_solved = true;

@@ -306,6 +306,8 @@ namespace Signorini
   SignoriniProblem<dim>::setup_system(const unsigned int cycle)
   {
     computation.setup(triangulation, exact_solution.function());
+    if (cycle == 0) // (the input's mesh: its coarser versions are known)
+      computation.enable_nested_start(mesh_input);
     results.mesh(cycle,
                  adaptive_mesh,
                  computation,
@@ -535,6 +537,8 @@ namespace Signorini
           make_grid();
         else
           adapt_mesh(cycle);
+        if (cycle + 1 == n_cycles) // (no mesh after this one)
+          adaptive_mesh.release_hierarchy();
         setup_system(cycle);
         assemble_system();
         solve_contact();

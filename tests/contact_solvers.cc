@@ -15,22 +15,17 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
 
-  const std::map<std::string, std::map<std::string, std::string>> cases = {
-    {"block", {{"Mesh/Initial refinements", "2"}, {"Number of cycles", "1"}}},
-    {"gap on the right edge",
-     {{"Mesh/Initial refinements", "2"},
-      {"Number of cycles", "1"},
-      {"Boundary conditions/Traction 1/Boundary ids", "3, 5"},
-      {"Boundary conditions/Traction 1/Function expression", "p; 0"},
-      {"Boundary conditions/Traction 2/Boundary ids", ""},
-      {"Contact/Boundary ids", "4, 6"},
-      {"Contact/Direction", "outward normal"},
-      {"Contact/Gap/Function expression", "0.002 + 0.05*(y-0.6)^2"}}},
+  const std::map<std::string, std::string> mesh = {{"Mesh/Initial refinements",
+                                                    "2"},
+                                                   {"Number of cycles", "1"}};
+  std::map<std::string, std::map<std::string, std::string>> cases = {
+    {"block", mesh},
+    {"gap on the right edge", gap_on_right_edge()},
     {"oblique direction",
-     {{"Mesh/Initial refinements", "2"},
-      {"Number of cycles", "1"},
-      {"Contact/Direction", "0.6, -0.8"},
+     {{"Contact/Direction", "0.6, -0.8"},
       {"Contact/Gap/Function expression", "0.001*x"}}}};
+  for (auto &[name, overrides] : cases)
+    overrides.insert(mesh.begin(), mesh.end());
 
   unsigned int failures = 0;
   for (const auto &[name, overrides] : cases)

@@ -106,6 +106,9 @@ namespace SignoriniTests
                                "contact_nodes",
                                "active_nodes",
                                "iterations",
+                               "cg_iterations",
+                               "nested_meshes",
+                               "nested_iterations",
                                "energy",
                                "contact_force",
                                "feasibility",
@@ -123,6 +126,20 @@ namespace SignoriniTests
     result.dual   = problem.dual();
     result.active = problem.active_set();
     return result;
+  }
+
+  /// Overrides of tests/inputs/block.prm for a gap on the right edge: the
+  /// block pressed to the right (horizontal contact direction, the outward
+  /// normal) onto a curved foundation, part of GC staying open.
+  inline std::map<std::string, std::string>
+  gap_on_right_edge()
+  {
+    return {{"Boundary conditions/Traction 1/Boundary ids", "3, 5"},
+            {"Boundary conditions/Traction 1/Function expression", "p; 0"},
+            {"Boundary conditions/Traction 2/Boundary ids", ""},
+            {"Contact/Boundary ids", "4, 6"},
+            {"Contact/Direction", "outward normal"},
+            {"Contact/Gap/Function expression", "0.002 + 0.05*(y-0.6)^2"}};
   }
 
   inline double

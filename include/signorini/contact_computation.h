@@ -23,8 +23,10 @@
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
 #include <signorini/material.h>
+#include <signorini/mesh_input.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,7 +64,16 @@ namespace Signorini
       double                              energy        = 0.;
       double                              contact_force = 0.;
       double                              setup_seconds = 0.;
-      double                              solve_seconds = 0.;
+      /// Contact solve, the nested start's computations included.
+      double solve_seconds = 0.;
+      /// The nested start: coarser meshes computed on (0 if none), their
+      /// active-set iterations together, and their time (setup, assembly
+      /// and solves).
+      unsigned int nested_meshes     = 0;
+      unsigned int nested_iterations = 0;
+      double       nested_seconds    = 0.;
+      /// Why the nested start was abandoned for a cold start, if it was.
+      std::string nested_failure;
     };
 
     static void
@@ -80,8 +91,8 @@ namespace Signorini
     setup(const Triangulation<dim> &mesh,
           const Function<dim>      *exact_solution = nullptr);
 
-    /// K, K condensed with the constraints, and F; refuses loads and
-    /// prescribed displacements whose products overflow.
+    /// K (unconstrained: the solves apply the constraints) and F; refuses loads
+    /// and prescribed displacements whose products overflow.
     void
     assemble();
 
@@ -99,6 +110,23 @@ namespace Signorini
     /// Start the next solve from @p state (a computation on another mesh).
     void
     set_initial_contact_state(const ContactState &state);
+
+    /**
+     * The current mesh is @p input's initial mesh with its Initial
+     * refinements (call after setup(), which forgets it). Then the next
+     * solve, unless it starts from the previous mesh's state (Initial active
+     * set from previous cycle), starts nested if Contact/Nested start is on
+     * and the solver uses a guess (the active set method): the same input
+     * with fewer refinements is computed on first, from the finest one with
+     * at most "Nested start cells" cells (a cold start) up to one refinement
+     * less than the current mesh, each started from the one before, and the
+     * current solve starts from the active set and the displacement of the
+     * last. The separation point is then found to within a coarse cell on
+     * every mesh, so the active-set iterations stop growing with the mesh
+     * (doc/theory.md section 3, doc/benchmarks.md).
+     */
+    void
+    enable_nested_start(const MeshInput<dim> &input);
 
     /// The contact state of the last solve.
     const ContactState &
@@ -167,8 +195,21 @@ namespace Signorini
     linear_solver() const;
 
   private:
-    /// The active set of the previous solve carried to the current contact
-    /// nodes (empty if there is none or the option is off).
+    /// The public constructor with @p with_nested_start = true; the
+    /// computations on coarser meshes have none (no nesting inside them).
+    ContactComputation(ParameterHandler &prm,
+                       TimerOutput      &timer,
+                       const bool        with_nested_start);
+
+    /// The nested start of enable_nested_start(): the contact state of the
+    /// last coarser mesh and its displacement interpolated into solution.
+    /// Falls back to a cold start (nested_failure says why) if a coarser
+    /// computation throws an input or solver error.
+    void
+    start_from_coarser_meshes();
+
+    /// The active set of the previous solve (or of the nested start)
+    /// carried to the current contact nodes (empty if there is none).
     std::vector<bool>
     initial_active_set_guess() const;
 
@@ -193,6 +234,15 @@ namespace Signorini
     bool                                   guess_from_previous_cycle = true;
     /// Largest relative solution check a converged computation may have.
     double check_tolerance = 1e-6;
+    /// Whether the nested start is on (and the solver uses a guess).
+    bool nested_start = false;
+    /// The largest first mesh of the nested start.
+    unsigned int nested_start_cells = 2000;
+    /// The input of the current mesh, if it is an input mesh.
+    std::optional<MeshInput<dim>> nested_start_input;
+    /// Parsed again by the computations on coarser meshes when they are
+    /// made (the parameters outlive every computation).
+    ParameterHandler *parameters = nullptr;
 
     // Discretisation
     const FESystem<dim>  fe;
@@ -211,7 +261,6 @@ namespace Signorini
 
     // Linear algebra and results
     LA::SparseMatrix  stiffness;
-    LA::SparseMatrix  condensed_stiffness;
     LA::Vector        load;
     LA::Vector        solution;
     Vector<double>    dual_solution;

@@ -27,11 +27,15 @@ namespace Signorini
    * The system solved is deal.II's constrained form
    *   (C^T K C + Id_c) u = C^T (f - K k) + Id_c k
    * (see constrained_linear_operator()), by CG. The preconditioner is built
-   * once from the stiffness matrix condensed with the base constraints: a
-   * sparse direct factorisation on small meshes (then the base problem
-   * converges in one CG step and a changed active set in a few), Trilinos ML
-   * algebraic multigrid on large ones. Restricted to the dofs left free by
-   * the current constraints it stays symmetric positive definite.
+   * from a copy of K in which the constrained dofs of the base constraints
+   * (and of a recent active set) are eliminated, i.e. their rows and columns
+   * zeroed but for the diagonal: a sparse direct factorisation on small
+   * meshes (then the base problem converges in one CG step and a changed
+   * active set in a few), Trilinos ML algebraic multigrid on large ones.
+   * Restricted to the dofs left free by the current constraints it stays
+   * symmetric positive definite. (A hanging node eliminated rather than
+   * condensed only weakens the preconditioner: the operator is exact.) K and
+   * that copy are the only matrices: no condensed K is stored.
    */
   class ElasticitySolver
   {
@@ -57,25 +61,29 @@ namespace Signorini
 
     /**
      * @p stiffness is the unconstrained K (singular without its constraints),
-     * @p condensed_stiffness the same matrix condensed with the base
-     * constraints (hanging nodes, Dirichlet); @p constant_modes the
-     * translation modes per component and @p rigid_motions the translations
-     * then rotations as vectors, the near null space of AMG (Linear
-     * solver/AMG/Null space). The preconditioners
-     * always eliminate @p support_dofs (see RigidMotions): with them the
-     * base-condensed matrix is invertible even for a body held only by the
-     * contact, whose operators differ from it by a low-rank term.
+     * @p base_constraints the constraints every solve has (hanging nodes,
+     * Dirichlet data), whose dofs the preconditioner eliminates; @p
+     * constant_modes the translation modes per component and @p rigid_motions
+     * the translations then rotations as vectors, the near null space of AMG
+     * (Linear solver/AMG/Null space). The preconditioners always eliminate @p
+     * support_dofs (see RigidMotions) too: with them the eliminated matrix is
+     * invertible even for a body held only by the contact, whose operators
+     * differ from it by a low-rank term.
+     *
+     * No preconditioner is built yet: the first update_preconditioner() or
+     * solve() builds the one it needs (a solve started from a guess of the
+     * active set builds only the preconditioner of that set).
      */
     void
     initialize(const LA::SparseMatrix                     &stiffness,
-               const LA::SparseMatrix                     &condensed_stiffness,
+               const AffineConstraints<double>            &base_constraints,
                const std::vector<std::vector<bool>>       &constant_modes,
                const std::vector<LA::Vector>              &rigid_motions,
                const std::vector<types::global_dof_index> &support_dofs = {});
 
     /**
-     * Rebuild the preconditioner from the base-condensed matrix in which the
-     * given dofs are eliminated as if they carried homogeneous Dirichlet
+     * Rebuild the preconditioner from K with the base constraints' dofs and
+     * the given dofs eliminated as if they carried homogeneous Dirichlet
      * data: the active contact constraints of an active set, so that CG on
      * that set converges as fast as on the base problem. (For the integral
      * condition an active dof is in fact tied to its neighbours; the
@@ -89,17 +97,23 @@ namespace Signorini
     /**
      * Solve with the constraints @p constraints (closed), the unconstrained
      * load @p load, starting from @p solution. Returns the CG iterations.
-     * A @p relative_tolerance of zero means the parameter's value.
+     * A @p relative_tolerance of zero means the parameter's value. Builds
+     * the base preconditioner if none is built.
      */
     unsigned int
     solve(const AffineConstraints<double> &constraints,
           const LA::Vector                &load,
           LA::Vector                      &solution,
-          const double                     relative_tolerance = 0.) const;
+          const double                     relative_tolerance = 0.);
 
     /// "direct (Amesos_Klu)" or "AMG-CG": what initialize() chose.
     std::string
     method() const;
+
+    /// Release the preconditioner and the matrix it was built from (the
+    /// solver is then unusable until the next initialize()).
+    void
+    clear();
 
     /// The preconditioner asked for.
     Type type = Type::automatic;
@@ -120,9 +134,10 @@ namespace Signorini
 
     /// K (unconstrained)
     const LA::SparseMatrix *stiffness_matrix = nullptr;
-    /// K condensed with the base constraints
-    const LA::SparseMatrix *condensed_matrix = nullptr;
-    /// The latter with eliminated dofs (update_preconditioner())
+    /// The dofs of the base constraints and the supports, sorted.
+    std::vector<types::global_dof_index> base_eliminated_dofs;
+    /// K with the base and the active dofs eliminated, the matrix of the
+    /// preconditioner (update_preconditioner())
     LA::SparseMatrix modified_matrix;
     /// Translation modes per component, for AMG
     std::vector<std::vector<bool>> translation_modes;
@@ -138,9 +153,8 @@ namespace Signorini
     bool w_cycle = true;
     /// The near null space handed to ML (which reads it at setup)
     std::unique_ptr<Epetra_MultiVector> null_space;
-    /// Dofs that hold the free rigid motions (always eliminated)
-    std::vector<types::global_dof_index> support_dofs;
-    /// The dofs eliminated in the current preconditioner
+    /// The active dofs eliminated in the current preconditioner (sorted),
+    /// {invalid} when none is built
     std::vector<types::global_dof_index> current_eliminated_dofs;
     /// What initialize() chose: direct factorisation or AMG
     bool use_direct = true;

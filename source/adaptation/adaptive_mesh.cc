@@ -93,6 +93,7 @@ namespace Signorini
     hierarchy.clear();
     input.create(hierarchy);
     from_input = true;
+    released   = false;
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, nullptr);
@@ -110,6 +111,7 @@ namespace Signorini
     hierarchy.clear();
     hierarchy.copy_triangulation(mesh);
     from_input = false;
+    released   = false;
     build_conforming_mesh(mesh);
   }
 
@@ -124,6 +126,7 @@ namespace Signorini
     AssertDimension(level_change.size(), level_of.size());
     Assert(from_input,
            ExcMessage("remesh() rebuilds from the input: not after adopt()"));
+    Assert(!released, ExcMessage("remesh() after release_hierarchy()"));
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, &level_change);
@@ -340,6 +343,7 @@ namespace Signorini
   std::pair<std::vector<int>, unsigned int>
   AdaptiveMesh<dim>::trial_remesh(const std::vector<int> &level_change)
   {
+    Assert(!released, ExcMessage("trial_remesh() after release_hierarchy()"));
     if constexpr (dim == 2)
       if (chosen_realisation == Realisation::bisection)
         return forest.trial_refine(level_change);
@@ -358,6 +362,17 @@ namespace Signorini
     return chosen_realisation == Realisation::bisection ?
              initial_level + double(finest) / dim :
              finest;
+  }
+
+
+
+  template <int dim>
+  void
+  AdaptiveMesh<dim>::release_hierarchy()
+  {
+    hierarchy.clear();
+    forest   = BisectionForest();
+    released = true;
   }
 
 

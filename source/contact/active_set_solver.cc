@@ -202,6 +202,13 @@ namespace Signorini
     return report;
   }
 
+  template <int dim>
+  bool
+  ActiveSetSolver<dim>::uses_initial_active_set() const
+  {
+    return true;
+  }
+
   template class ActiveSetSolver<2>;
   template class ActiveSetSolver<3>;
 } // namespace Signorini

@@ -31,6 +31,15 @@ namespace Signorini
     return registry().name_of(*this);
   }
 
+
+
+  template <int dim>
+  bool
+  ContactSolver<dim>::uses_initial_active_set() const
+  {
+    return false;
+  }
+
   template class ContactSolver<2>;
   template class ContactSolver<3>;
 } // namespace Signorini

@@ -107,6 +107,15 @@ namespace Signorini
     void
     adopt(Triangulation<dim> &mesh);
 
+    /**
+     * The current mesh is the last one: free the hierarchy (and the
+     * bisection forest), which can be as large as the mesh itself. levels(),
+     * n_green_cells() and finest_halvings() still answer; remesh() and
+     * trial_remesh() may no longer be called.
+     */
+    void
+    release_hierarchy();
+
     /// Per active cell of the computational mesh: its hierarchy level.
     const std::vector<unsigned int> &
     levels() const;
@@ -143,6 +152,8 @@ namespace Signorini
     /// Whether the hierarchy starts from the input's mesh (not adopt()ed),
     /// as remesh() needs
     bool from_input = true;
+    /// Whether release_hierarchy() was called
+    bool released = false;
   };
 
   /// In 3D: throws an InputError (the green closure bisects triangles).

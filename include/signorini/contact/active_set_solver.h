@@ -45,6 +45,10 @@ namespace Signorini
           Vector<double>                    &y,
           const std::vector<bool>           &initial_active = {}) override;
 
+    /// Yes: a good guess cuts the iterations.
+    bool
+    uses_initial_active_set() const override;
+
     /// Limit on the number of active-set updates.
     unsigned int max_iterations = 100;
     /// CG tolerance while the active set still changes.

@@ -51,6 +51,11 @@ namespace Signorini
     const std::string &
     name() const;
 
+    /// Whether solve() uses a guess of the active set (worth computing on
+    /// coarser meshes, see ContactComputation::set_coarser_meshes()).
+    virtual bool
+    uses_initial_active_set() const;
+
     /**
      * @p u holds the initial guess on entry; @p initial_active, if not
      * empty, a guess of the active set (one flag per constraint row), e.g.

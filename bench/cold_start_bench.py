@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""Cold start of the active set method: from scratch versus the nested start.
+
+On the paper's block refined L times (one mesh, Number of cycles = 1, so no
+previous mesh to start from) it runs the Release executable in separate
+processes and prints, per mesh and condition:
+
+- floor: one linear elasticity solve on the same mesh (no contact);
+- scratch: the active set method from scratch (Contact/Nested start = false:
+  the first step is the unconstrained problem);
+- nested: the default, Contact/Nested start = true (the input block with
+  fewer refinements solved first, from the finest one with at most
+  "Nested start cells" cells, each started from the one before).
+
+For each: active-set iterations on the mesh (for nested also the coarser
+meshes' iterations together), CG iterations, seconds (linear solver setup +
+contact solve, the nested start's setup, assembly and solves included), the
+ratio to the floor of the same run, and the peak resident memory of the
+process. Times are medians of --repeat runs, interleaved so that the machine's
+load affects every variant alike.
+
+Usage: bench/cold_start_bench.py [--levels 3 4 5 6 7] [--repeat 3]
+"""
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+
+from contact_bench import ROOT, run_case, seconds
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--levels", type=int, nargs="+", default=[3, 4, 5, 6, 7])
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    exe = os.path.join(args.build, "signorini")
+
+    print("| DoFs | condition | floor s | scratch: its, CG, s, x floor, MiB "
+          "| nested: its (coarser), CG, s, x floor, MiB |")
+    print("|---:|---|---:|---|---|")
+    for level in args.levels:
+        mesh = {"Mesh/Initial refinements": str(level), "Number of cycles": "1",
+                "Error estimator/Enable": "false"}
+        variants = {"floor": dict(mesh, **{"Contact/Boundary ids": ""})}
+        for condition in ("integral", "pointwise"):
+            for start in ("scratch", "nested"):
+                variants[(condition, start)] = dict(mesh, **{
+                    "Contact/Condition": condition,
+                    "Contact/Nested start":
+                        "true" if start == "nested" else "false"})
+        times = {key: [] for key in variants}
+        rows, memory = {}, {key: 0. for key in variants}
+        with tempfile.TemporaryDirectory() as work:
+            for _ in range(args.repeat):
+                for key, overrides in variants.items():
+                    row, mib = run_case(exe, overrides, work)
+                    if row["converged"] != "1":
+                        sys.exit(f"level {level} {key}: not converged")
+                    rows[key] = row
+                    times[key].append(seconds(row))
+                    memory[key] = max(memory[key], mib)
+        floor = statistics.median(times["floor"])
+        for condition in ("integral", "pointwise"):
+            cells = []
+            for start in ("scratch", "nested"):
+                key = (condition, start)
+                row, t = rows[key], statistics.median(times[key])
+                its = row["iterations"]
+                if start == "nested":
+                    its += f" ({row['nested_iterations']})"
+                cells.append(f"{its}, {row['cg_iterations']}, {t:.3g}, "
+                             f"{t / floor:.2g}, {memory[key]:.0f}")
+            print(f"| {rows['floor']['dofs']} | {condition} | {floor:.3g} | "
+                  + " | ".join(cells) + " |", flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
