@@ -23,11 +23,9 @@ Usage: bench/cold_start_bench.py [--levels 3 4 5 6 7] [--repeat 3]
 """
 import argparse
 import os
-import statistics
 import sys
-import tempfile
 
-from contact_bench import ROOT, run_case, seconds
+from contact_bench import ROOT, measure_variants, single_mesh
 
 
 def main():
@@ -42,8 +40,7 @@ def main():
           "| nested: its (coarser), CG, s, x floor, MiB |")
     print("|---:|---|---:|---|---|")
     for level in args.levels:
-        mesh = {"Mesh/Initial refinements": str(level), "Number of cycles": "1",
-                "Error estimator/Enable": "false"}
+        mesh = single_mesh(level)
         variants = {"floor": dict(mesh, **{"Contact/Boundary ids": ""})}
         for condition in ("integral", "pointwise"):
             for start in ("scratch", "nested"):
@@ -51,31 +48,21 @@ def main():
                     "Contact/Condition": condition,
                     "Contact/Nested start":
                         "true" if start == "nested" else "false"})
-        times = {key: [] for key in variants}
-        rows, memory = {}, {key: 0. for key in variants}
-        with tempfile.TemporaryDirectory() as work:
-            for _ in range(args.repeat):
-                for key, overrides in variants.items():
-                    row, mib = run_case(exe, overrides, work)
-                    if row["converged"] != "1":
-                        sys.exit(f"level {level} {key}: not converged")
-                    rows[key] = row
-                    times[key].append(seconds(row))
-                    memory[key] = max(memory[key], mib)
-        floor = statistics.median(times["floor"])
+        results = measure_variants(exe, variants, args.repeat)
+        floor_row, floor, _ = results["floor"]
         for condition in ("integral", "pointwise"):
             cells = []
             for start in ("scratch", "nested"):
-                key = (condition, start)
-                row, t = rows[key], statistics.median(times[key])
+                row, t, mib = results[(condition, start)]
+                if row["converged"] != "1":
+                    sys.exit(f"level {level} {condition} {start}: not converged")
                 its = row["iterations"]
                 if start == "nested":
                     its += f" ({row['nested_iterations']})"
                 cells.append(f"{its}, {row['cg_iterations']}, {t:.3g}, "
-                             f"{t / floor:.2g}, {memory[key]:.0f}")
-            print(f"| {rows['floor']['dofs']} | {condition} | {floor:.3g} | "
+                             f"{t / floor:.2g}, {mib:.0f}")
+            print(f"| {floor_row['dofs']} | {condition} | {floor:.3g} | "
                   + " | ".join(cells) + " |", flush=True)
-
 
 if __name__ == "__main__":
     sys.exit(main())

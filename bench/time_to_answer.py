@@ -6,9 +6,10 @@ remeshing) and prm/hertz-adaptive.prm (Hertz to 2 %, with a reference solution
 on the final mesh refined twice) as a user does, with the Release executable,
 on 1 and 2 MPI ranks, --repeat times each (interleaved), and prints per stage
 (the program's own TimerOutput sections, summed over the cycles) the median
-wall time on each rank count and their ratio, then the total and the total
-without the reference solution and comparison (the answer itself: the mesh
-that reaches the target and its error figure). The answer (cells and eps of
+wall time on each rank count and their ratio, then the total (the timer's),
+the process from launch to exit (MPI start included) and the total without
+the reference solution and comparison (the answer itself: the mesh that
+reaches the target and its error figure). The answer (cells and eps of
 the last cycle) is printed too, and must be the same on both rank counts.
 
 Usage: bench/time_to_answer.py [--repeat 3] [--ranks 1 2] [--build build]
@@ -22,6 +23,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -41,7 +43,9 @@ def run(exe, prm_dir, name, ranks, out):
         command = ["mpirun", "-np", str(ranks), "--oversubscribe"] + command
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    start = time.monotonic()
     log = subprocess.run(command, capture_output=True, text=True, env=env)
+    process_seconds = time.monotonic() - start
     if log.returncode != 0:
         sys.exit(f"{name} on {ranks} rank(s) failed:\n{log.stdout}{log.stderr}")
     stages, total = {}, None
@@ -57,6 +61,7 @@ def run(exe, prm_dir, name, ranks, out):
         sys.exit(f"{name}: no timing table in the screen log")
     with open(os.path.join(out, "statistics.csv")) as f:
         rows = list(csv.DictReader(f))
+    stages["process (launch to exit, MPI start included)"] = process_seconds
     return stages, total, rows
 
 
@@ -95,7 +100,7 @@ def main():
                     print(f"WARNING: {r} ranks disagree with "
                           f"{args.ranks[0]} on the answer")
             names = sorted({s for r in args.ranks for st, _ in samples[r]
-                            for s in st})
+                            for s in st if not s.startswith("process")})
             header = "| stage | " + " | ".join(f"{r} rank(s) s" for r in
                                                args.ranks)
             if len(args.ranks) > 1:
@@ -115,6 +120,11 @@ def main():
                                                for st, _ in samples[r])
                              for r in args.ranks])
             line("total", [statistics.median(t for _, t in samples[r])
+                           for r in args.ranks])
+            process = [s for s in samples[args.ranks[0]][0][0]
+                       if s.startswith("process")][0]
+            line(process, [statistics.median(st[process]
+                                             for st, _ in samples[r])
                            for r in args.ranks])
             line("answer (total without the reference)",
                  [statistics.median(t - sum(st.get(s, 0.)

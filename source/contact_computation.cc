@@ -354,7 +354,9 @@ namespace Signorini
                                    constraints,
                                    constant_modes,
                                    rigid_motions.all_motions(),
-                                   rigid_motions.support_dofs());
+                                   rigid_motions.support_dofs(),
+                                   contact_solver->prefers_direct_solver(
+                                     dofs.n_dofs()));
     }
     setup_timer.stop();
 

@@ -273,7 +273,8 @@ namespace Signorini
     const AffineConstraints<double>            &base_constraints,
     const std::vector<std::vector<bool>>       &constant_modes,
     const std::vector<LA::Vector>              &motions,
-    const std::vector<types::global_dof_index> &supports)
+    const std::vector<types::global_dof_index> &supports,
+    const bool                                  prefer_direct)
   {
     rigid_motions        = &motions;
     stiffness_matrix     = &stiffness;
@@ -285,9 +286,9 @@ namespace Signorini
     base_eliminated_dofs.erase(std::unique(base_eliminated_dofs.begin(),
                                            base_eliminated_dofs.end()),
                                base_eliminated_dofs.end());
-    use_direct =
-      (type == Type::direct) ||
-      (type == Type::automatic && stiffness.m() <= direct_solver_limit);
+    use_direct = (type == Type::direct) ||
+                 (type == Type::automatic &&
+                  (stiffness.m() <= direct_solver_limit || prefer_direct));
     direct.reset();
     amg.reset();
     current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)

@@ -70,16 +70,19 @@ namespace Signorini
      * invertible even for a body held only by the contact, whose operators
      * differ from it by a low-rank term.
      *
-     * No preconditioner is built yet: the first update_preconditioner() or
-     * solve() builds the one it needs (a solve started from a guess of the
-     * active set builds only the preconditioner of that set).
+     * With @p prefer_direct (and Type automatic) the direct factorisation
+     * is used whatever the size. No preconditioner is built yet: the first
+     * update_preconditioner() or solve() builds the one it needs (a solve
+     * started from a guess of the active set builds only the preconditioner of
+     * that set).
      */
     void
     initialize(const LA::SparseMatrix                     &stiffness,
                const AffineConstraints<double>            &base_constraints,
                const std::vector<std::vector<bool>>       &constant_modes,
                const std::vector<LA::Vector>              &rigid_motions,
-               const std::vector<types::global_dof_index> &support_dofs = {});
+               const std::vector<types::global_dof_index> &support_dofs = {},
+               const bool prefer_direct = false);
 
     /**
      * Rebuild the preconditioner from K with the base constraints' dofs and

@@ -1,3 +1,7 @@
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
+
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <signorini/contact/frank_wolfe_solver.h>
@@ -24,6 +28,18 @@ namespace Signorini
                       Patterns::Integer(1),
                       "Limit on the columns of the dual operator formed (one "
                       "elasticity solve each); reaching it stops unconverged.");
+    prm.declare_entry("Direct columns limit",
+                      "500000",
+                      Patterns::Integer(0),
+                      "Up to this many DoFs, and with Linear solver/Type = "
+                      "automatic, the columns are formed with one sparse "
+                      "direct factorisation (a back-substitution each) "
+                      "instead of one AMG-CG solve each.");
+    prm.declare_entry("Progress interval",
+                      "10",
+                      Patterns::Double(0.),
+                      "Print the step, the columns formed and the KKT "
+                      "residual every this many seconds (0: never).");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -36,9 +52,11 @@ namespace Signorini
   {
     prm.enter_subsection("Contact");
     prm.enter_subsection("Frank-Wolfe");
-    max_iterations = prm.get_integer("Maximum iterations");
-    tolerance      = prm.get_double("Tolerance");
-    max_columns    = prm.get_integer("Maximum columns");
+    max_iterations       = prm.get_integer("Maximum iterations");
+    tolerance            = prm.get_double("Tolerance");
+    max_columns          = prm.get_integer("Maximum columns");
+    direct_columns_limit = prm.get_integer("Direct columns limit");
+    progress_interval    = prm.get_double("Progress interval");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -192,10 +210,26 @@ namespace Signorini
       return step;
     };
 
-    bool capped = false;
+    // (rank 0 prints; every rank takes the same steps)
+    ConditionalOStream progress(
+      std::cout, Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0);
+    Timer  progress_timer;
+    double next_progress = progress_interval;
+    bool   capped        = false;
     for (report.iterations = 0; report.iterations < max_iterations && !capped;
          ++report.iterations)
       {
+        // (the clock is read every 16 steps: a step costs a column update)
+        if (progress_interval > 0. && report.iterations % 16 == 0 &&
+            progress_timer.wall_time() >= next_progress)
+          {
+            progress << "   Frank-Wolfe: step " << report.iterations << ", "
+                     << columns.size() << " columns, KKT residual "
+                     << report.residual << " after "
+                     << std::round(progress_timer.wall_time()) << " s"
+                     << std::endl;
+            next_progress = progress_timer.wall_time() + progress_interval;
+          }
         // Linear subproblem over the cone and the away atom.
         unsigned int ray = 0, away = numbers::invalid_unsigned_int;
         double       kkt = 0.;
@@ -283,6 +317,14 @@ namespace Signorini
         problem.add_rigid_motion(c, u);
       }
     return report;
+  }
+
+  template <int dim>
+  bool
+  FrankWolfeSolver<dim>::prefers_direct_solver(
+    const types::global_dof_index n_dofs) const
+  {
+    return n_dofs <= direct_columns_limit;
   }
 
   template class FrankWolfeSolver<2>;

@@ -40,6 +40,16 @@ namespace Signorini
     return false;
   }
 
+
+
+  template <int dim>
+  bool
+  ContactSolver<dim>::prefers_direct_solver(
+    const types::global_dof_index /*n_dofs*/) const
+  {
+    return false;
+  }
+
   template class ContactSolver<2>;
   template class ContactSolver<3>;
 } // namespace Signorini

@@ -25,7 +25,11 @@ namespace Signorini
    * them the method converges linearly and ends on the exact active set.
    *
    * Only the columns of S of rows that become active are formed, one
-   * elasticity solve each (cached); g is updated from them. The iteration
+   * elasticity solve each (cached); g is updated from them. Up to "Direct
+   * columns limit" DoFs these solves use one sparse direct factorisation
+   * (a back-substitution per column) rather than one AMG-CG solve each, if
+   * Linear solver/Type is automatic. Long runs print a progress line every
+   * "Progress interval" seconds. The iteration
    * stops when the KKT residual max(-min g, max_{y_j>0} |g_j|) is below
    * "Tolerance" times the scale of d, or unconverged (with the residual
    * reached in the report) at "Maximum iterations" or when a new column
@@ -51,12 +55,20 @@ namespace Signorini
           Vector<double>                    &y,
           const std::vector<bool>           &initial_active = {}) override;
 
+    /// Up to "Direct columns limit" DoFs.
+    bool
+    prefers_direct_solver(const types::global_dof_index n_dofs) const override;
+
     /// Limit on the number of Frank-Wolfe steps.
     unsigned int max_iterations = 1000000;
     /// KKT residual reached, relative to max |d|.
     double tolerance = 1e-12;
     /// Stop (unconverged) rather than form more columns of S than this.
     unsigned int max_columns = 100000;
+    /// Largest problem whose columns use a direct factorisation.
+    types::global_dof_index direct_columns_limit = 500000;
+    /// Seconds between progress lines (0: none).
+    double progress_interval = 10.;
   };
 } // namespace Signorini
 

@@ -52,9 +52,16 @@ namespace Signorini
     name() const;
 
     /// Whether solve() uses a guess of the active set (worth computing on
-    /// coarser meshes, see ContactComputation::set_coarser_meshes()).
+    /// coarser meshes, see ContactComputation::enable_nested_start()).
     virtual bool
     uses_initial_active_set() const;
+
+    /// Whether the linear solves of a problem with @p n_dofs DoFs should
+    /// use the sparse direct factorisation even above Linear solver/Direct
+    /// solver limit (when Linear solver/Type = automatic): a solver that
+    /// solves with one matrix many times.
+    virtual bool
+    prefers_direct_solver(const types::global_dof_index n_dofs) const;
 
     /**
      * @p u holds the initial guess on entry; @p initial_active, if not
