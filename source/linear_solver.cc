@@ -474,20 +474,6 @@ namespace Signorini
 
 
 
-  void
-  ElasticitySolver::clear()
-  {
-    direct.reset();
-    amg.reset();
-    null_space.reset();
-    modified_matrix.clear();
-    stiffness_matrix        = nullptr;
-    rigid_motions           = nullptr;
-    current_eliminated_dofs = {numbers::invalid_dof_index};
-  }
-
-
-
   std::string
   ElasticitySolver::method() const
   {

@@ -196,9 +196,9 @@ namespace Signorini
           << checks.residual << ", resultant " << checks.resultant
           << std::defaultfloat << std::setprecision(6) << std::endl;
     if (summary.nested_meshes > 0)
-      pcout << "   nested start: " << summary.nested_meshes
-            << " coarser meshes, " << summary.nested_iterations
-            << " iterations in all" << std::endl;
+      pcout << "   nested start: " << summary.nested_meshes << " coarser mesh"
+            << (summary.nested_meshes > 1 ? "es, " : ", ")
+            << summary.nested_iterations << " iterations in all" << std::endl;
     if (!summary.nested_failure.empty())
       pcout << "   nested start abandoned (cold start): "
             << summary.nested_failure << std::endl;

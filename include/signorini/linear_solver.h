@@ -113,11 +113,6 @@ namespace Signorini
     std::string
     method() const;
 
-    /// Release the preconditioner and the matrix it was built from (the
-    /// solver is then unusable until the next initialize()).
-    void
-    clear();
-
     /// The preconditioner asked for.
     Type type = Type::automatic;
     /// Trilinos Amesos package of the direct factorisation.

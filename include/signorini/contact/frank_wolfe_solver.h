@@ -29,9 +29,10 @@ namespace Signorini
    * columns limit" DoFs these solves use one sparse direct factorisation
    * (a back-substitution per column) rather than one AMG-CG solve each, if
    * Linear solver/Type is automatic. Long runs print a progress line every
-   * "Progress interval" seconds. The iteration
-   * stops when the KKT residual max(-min g, max_{y_j>0} |g_j|) is below
-   * "Tolerance" times the scale of d, or unconverged (with the residual
+   * "Progress interval" seconds.
+   *
+   * The iteration stops when the KKT residual max(-min g, max_{y_j>0} |g_j|) is
+   * below "Tolerance" times the scale of d, or unconverged (with the residual
    * reached in the report) at "Maximum iterations" or when a new column
    * would exceed "Maximum columns". It starts from y = 0 and does not use an
    * initial active set.
