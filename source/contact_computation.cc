@@ -61,7 +61,8 @@ namespace Signorini
                       Patterns::Integer(1),
                       "The first mesh of the nested start is the finest one "
                       "with at most this many cells (the input mesh itself "
-                      "if it has more); a mesh this small starts cold.");
+                      "if it has more); a mesh with at most this many cells "
+                      "starts cold.");
     prm.leave_subsection();
   }
 
