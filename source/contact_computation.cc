@@ -331,17 +331,14 @@ namespace Signorini
   void
   ContactComputation<dim>::solve()
   {
-    last_summary.nested_meshes     = 0;
-    last_summary.nested_iterations = 0;
-    last_summary.nested_seconds    = 0.;
-    last_summary.nested_failure.clear();
-    solution        = 0.;
+    last_summary.nested = {};
+    solution            = 0.;
     bool from_state = guess_from_previous_cycle && !last_contact_state.empty();
     if (!from_state && nested_start && nested_start_input &&
         gamma_c.n_nodes() > 0)
       {
         start_from_coarser_meshes();
-        from_state = (last_summary.nested_meshes > 0);
+        from_state = (last_summary.nested.meshes > 0);
       }
 
     Timer setup_timer;
@@ -418,7 +415,7 @@ namespace Signorini
     last_summary.energy        = problem.energy(solution);
     last_summary.setup_seconds = setup_timer.wall_time();
     last_summary.solve_seconds =
-      solve_timer.wall_time() + last_summary.nested_seconds;
+      solve_timer.wall_time() + last_summary.nested.seconds;
     judge_solution();
   }
 
@@ -550,8 +547,8 @@ namespace Signorini
             coarse->setup(*meshes.back());
             coarse->assemble();
             coarse->solve();
-            ++last_summary.nested_meshes;
-            last_summary.nested_iterations +=
+            ++last_summary.nested.meshes;
+            last_summary.nested.iterations +=
               coarse->summary().report.iterations;
           }
         last_contact_state = coarse->contact_state();
@@ -571,15 +568,14 @@ namespace Signorini
         // problem, and a real input error reappears there. (Anything else,
         // e.g. an allocation failure on one rank, is not caught: the other
         // ranks would wait for this one.)
-        last_summary.nested_failure    = exc.what();
-        last_summary.nested_meshes     = 0;
-        last_summary.nested_iterations = 0;
+        last_summary.nested         = {};
+        last_summary.nested.failure = exc.what();
         last_contact_state.clear();
         solution = 0.;
       }
     coarse.reset();
     meshes.clear();
-    last_summary.nested_seconds = nested_timer.wall_time();
+    last_summary.nested.seconds = nested_timer.wall_time();
   }
 
 

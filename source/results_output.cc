@@ -195,18 +195,18 @@ namespace Signorini
           << ", complementarity " << checks.complementarity << ", residual "
           << checks.residual << ", resultant " << checks.resultant
           << std::defaultfloat << std::setprecision(6) << std::endl;
-    if (summary.nested_meshes > 0)
-      pcout << "   nested start: " << summary.nested_meshes << " coarser mesh"
-            << (summary.nested_meshes > 1 ? "es, " : ", ")
-            << summary.nested_iterations << " iterations in all" << std::endl;
-    if (!summary.nested_failure.empty())
+    if (summary.nested.meshes > 0)
+      pcout << "   nested start: " << summary.nested.meshes << " coarser mesh"
+            << (summary.nested.meshes > 1 ? "es, " : ", ")
+            << summary.nested.iterations << " iterations in all" << std::endl;
+    if (!summary.nested.failure.empty())
       pcout << "   nested start abandoned (cold start): "
-            << summary.nested_failure << std::endl;
+            << summary.nested.failure << std::endl;
     if (with_timing)
       {
         pcout << "   contact solve " << summary.solve_seconds << " s";
-        if (summary.nested_meshes > 0)
-          pcout << " (nested start " << summary.nested_seconds << " s)";
+        if (summary.nested.meshes > 0)
+          pcout << " (nested start " << summary.nested.seconds << " s)";
         pcout << std::endl;
       }
   }
@@ -229,8 +229,8 @@ namespace Signorini
     table.add_value("iterations", report.iterations);
     table.add_value("linear_solves", report.linear_solves);
     table.add_value("cg_iterations", report.linear_iterations);
-    table.add_value("nested_meshes", summary.nested_meshes);
-    table.add_value("nested_iterations", summary.nested_iterations);
+    table.add_value("nested_meshes", summary.nested.meshes);
+    table.add_value("nested_iterations", summary.nested.iterations);
     table.add_value("converged", computation.converged() ? 1u : 0u);
     table.add_value("kkt_residual", report.residual);
     table.add_value("energy", summary.energy);

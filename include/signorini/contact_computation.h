@@ -66,14 +66,18 @@ namespace Signorini
       double                              setup_seconds = 0.;
       /// Contact solve, the nested start's computations included.
       double solve_seconds = 0.;
-      /// The nested start: coarser meshes computed on (0 if none), their
-      /// active-set iterations together, and their time (setup, assembly
-      /// and solves).
-      unsigned int nested_meshes     = 0;
-      unsigned int nested_iterations = 0;
-      double       nested_seconds    = 0.;
-      /// Why the nested start was abandoned for a cold start, if it was.
-      std::string nested_failure;
+      /// What the nested start did (all zero/empty if it did not run).
+      struct NestedStart
+      {
+        /// Coarser meshes computed on (0 if none).
+        unsigned int meshes = 0;
+        /// Their active-set iterations together.
+        unsigned int iterations = 0;
+        /// Their time: setup, assembly and solves.
+        double seconds = 0.;
+        /// Why it was abandoned for a cold start, if it was.
+        std::string failure;
+      } nested;
     };
 
     static void
@@ -203,7 +207,7 @@ namespace Signorini
 
     /// The nested start of enable_nested_start(): the contact state of the
     /// last coarser mesh and its displacement interpolated into solution.
-    /// Falls back to a cold start (nested_failure says why) if a coarser
+    /// Falls back to a cold start (Summary::nested says why) if a coarser
     /// computation throws an input or solver error.
     void
     start_from_coarser_meshes();

@@ -93,7 +93,6 @@ namespace Signorini
     hierarchy.clear();
     input.create(hierarchy);
     from_input = true;
-    released   = false;
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, nullptr);
@@ -111,7 +110,6 @@ namespace Signorini
     hierarchy.clear();
     hierarchy.copy_triangulation(mesh);
     from_input = false;
-    released   = false;
     build_conforming_mesh(mesh);
   }
 
@@ -126,7 +124,8 @@ namespace Signorini
     AssertDimension(level_change.size(), level_of.size());
     Assert(from_input,
            ExcMessage("remesh() rebuilds from the input: not after adopt()"));
-    Assert(!released, ExcMessage("remesh() after release_hierarchy()"));
+    Assert(hierarchy.n_levels() > 0,
+           ExcMessage("remesh() after release_hierarchy()"));
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, &level_change);
@@ -343,7 +342,8 @@ namespace Signorini
   std::pair<std::vector<int>, unsigned int>
   AdaptiveMesh<dim>::trial_remesh(const std::vector<int> &level_change)
   {
-    Assert(!released, ExcMessage("trial_remesh() after release_hierarchy()"));
+    Assert(hierarchy.n_levels() > 0,
+           ExcMessage("trial_remesh() after release_hierarchy()"));
     if constexpr (dim == 2)
       if (chosen_realisation == Realisation::bisection)
         return forest.trial_refine(level_change);
@@ -371,8 +371,7 @@ namespace Signorini
   AdaptiveMesh<dim>::release_hierarchy()
   {
     hierarchy.clear();
-    forest   = BisectionForest();
-    released = true;
+    forest = BisectionForest();
   }
 
 

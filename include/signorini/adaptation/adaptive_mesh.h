@@ -152,8 +152,6 @@ namespace Signorini
     /// Whether the hierarchy starts from the input's mesh (not adopt()ed),
     /// as remesh() needs
     bool from_input = true;
-    /// Whether release_hierarchy() was called
-    bool released = false;
   };
 
   /// In 3D: throws an InputError (the green closure bisects triangles).
