@@ -6,17 +6,21 @@
 //    stress everywhere;
 // 3. a linear stress field with its constant body force -div sigma is
 //    reproduced exactly (uniqueness);
-// 4. random equilibrated data (random tractions and body force, projected
-//    onto the equilibrated ones): the constraint defect is round-off, the
-//    tractions hold at the edge ends and midpoints, div sigma + f = 0 on
-//    each sub-triangle, sigma n is continuous at the midpoints of the
+// 4. random equilibrated data (random tractions and a random body force on
+//    each sub-triangle, the tractions projected onto those in equilibrium):
+//    the constraint defect is round-off, the tractions hold at the edge
+//    ends and midpoints, div sigma + f_e = 0 on each sub-triangle T_e,
+//    sigma n is continuous at the midpoints of the
 //    internal edges; for data not in equilibrium the maps give the
 //    least-squares solution (C^T (C x - b) = 0);
 // 5. the energy matrix: x^T W x = |E| sigma0 : K^-1 sigma0 for a constant
 //    stress (K^-1 of plane strain written out from E and nu), and the
 //    integral of sigma : K^-1 sigma by quadrature for the linear field;
 // 6. response() on several threads at once gives the serial result; a
-//    degenerate triangle is refused.
+//    degenerate triangle is refused;
+// 7. the affine maps from the reference triangle (the fast path) give the
+//    field, energy and traction quadratic of response() on equilibrated
+//    data.
 // Pass/fail lines, the rank and a few rounded numbers only.
 
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -188,26 +192,42 @@ namespace
     return t;
   }
 
+  /// the same force on the three sub-triangles
+  JM::BodyForce
+  constant_force(const Tensor<1, 2> &f)
+  {
+    return {{f, f, f}};
+  }
+
+  Vector<double>
+  apply(const JM::Response   &r,
+        const Vector<double> &traction,
+        const JM::BodyForce  &body_force)
+  {
+    Vector<double> x(JM::n_coefficients), f(6);
+    r.stress_of_traction.vmult(x, traction);
+    for (unsigned int e = 0; e < 3; ++e)
+      for (unsigned int i = 0; i < 2; ++i)
+        f[2 * e + i] = body_force[e][i];
+    r.stress_of_body_force.vmult_add(x, f);
+    return x;
+  }
+
   Vector<double>
   apply(const JM::Response   &r,
         const Vector<double> &traction,
         const Tensor<1, 2>   &body_force)
   {
-    Vector<double> x(JM::n_coefficients), f(2);
-    r.stress_of_traction.vmult(x, traction);
-    f[0] = body_force[0];
-    f[1] = body_force[1];
-    r.stress_of_body_force.vmult_add(x, f);
-    return x;
+    return apply(r, traction, constant_force(body_force));
   }
 
   /// The 3 x 12 map from tractions to (resultant, moment about the
   /// centroid) and the contribution of the body force.
   void
-  equilibrium(const Triangle     &x,
-              FullMatrix<double> &G,
-              const Tensor<1, 2> &f,
-              Vector<double>     &of_force)
+  equilibrium(const Triangle      &x,
+              FullMatrix<double>  &G,
+              const JM::BodyForce &f,
+              Vector<double>      &of_force)
   {
     G.reinit(3, JM::n_traction_values);
     const Point<2> g = centroid(x);
@@ -231,17 +251,28 @@ namespace
             G(2, JM::traction_index(e, k, 0)) -= position[1];
           }
       }
+    // f_e on T_e (area |E|/3, centroid g_e): resultant |E|/3 f_e, moment
+    // |E|/3 (g_e - g) x f_e
     of_force.reinit(3);
-    of_force[0] = area(x) * f[0];
-    of_force[1] = area(x) * f[1];
-    of_force[2] = 0.; // int_E (x - g) dx = 0
+    for (unsigned int e = 0; e < 3; ++e)
+      {
+        const auto         nodes = sub_triangle(x, e);
+        const Tensor<1, 2> arm =
+          (Tensor<1, 2>(nodes[0]) + Tensor<1, 2>(nodes[1]) +
+           Tensor<1, 2>(nodes[2])) /
+            3. -
+          Tensor<1, 2>(centroid(x));
+        of_force[0] += area(x) / 3. * f[e][0];
+        of_force[1] += area(x) / 3. * f[e][1];
+        of_force[2] += area(x) / 3. * (arm[0] * f[e][1] - arm[1] * f[e][0]);
+      }
   }
 
   /// Project random tractions onto those in equilibrium with @p f.
   Vector<double>
   equilibrated(const Triangle       &x,
                const Vector<double> &t,
-               const Tensor<1, 2>   &f)
+               const JM::BodyForce  &f)
   {
     FullMatrix<double> G;
     Vector<double>     of_force;
@@ -359,7 +390,8 @@ main()
       sigma0[0][1] = -0.4;
       {
         const LinearField    field{sigma0, {}, {}};
-        const Vector<double> x_h      = apply(r, tractions_of(x, field), {});
+        const Vector<double> x_h =
+          apply(r, tractions_of(x, field), Tensor<1, 2>());
         const Vector<double> expected = JM::coefficients_of(sigma0);
         deallog << "  constant stress reproduced: "
                 << yes_no(max_difference(x_h, expected) <
@@ -452,11 +484,17 @@ main()
             Vector<double> t(JM::n_traction_values);
             for (auto &v : t)
               v = uniform(generator);
-            Tensor<1, 2> f;
-            f[0]               = uniform(generator) / h;
-            f[1]               = uniform(generator) / h;
+            // a different force on each sub-triangle
+            JM::BodyForce f;
+            double        largest_force = 0.;
+            for (auto &force : f)
+              {
+                force[0]      = uniform(generator) / h;
+                force[1]      = uniform(generator) / h;
+                largest_force = std::max(largest_force, force.norm());
+              }
             t                  = equilibrated(x, t, f);
-            const double scale = std::max(t.linfty_norm(), h * f.norm());
+            const double scale = std::max(t.linfty_norm(), h * largest_force);
 
             const Vector<double> x_h = apply(r, t, f);
             const double defect      = element.constraint_defect(x, x_h, t, f);
@@ -481,7 +519,7 @@ main()
                       (JM::value(x, x_h, e, p) - sigma).norm() < 1e-12 * scale;
                   }
                 div_ok &=
-                  h * (divergence(x, x_h, e) + f).norm() < 1e-12 * scale;
+                  h * (divergence(x, x_h, e) + f[e]).norm() < 1e-12 * scale;
 
                 // the internal edge g-x_e between T_e and T_{e-1}
                 const Point<2>     g = centroid(x);
@@ -510,26 +548,102 @@ main()
           deallog << "    worst defect " << worst_defect << std::endl;
       }
 
+      // 7. the affine maps (the fast path) against response() on random
+      //    equilibrated data: the field, its energy, and the quadratic in
+      //    the tractions on pairs of equilibrated data (its action on other
+      //    data is not that of response(), see field())
+      {
+        const JM::AffineMap map = JM::affine_map(x);
+        const double        h   = std::max(
+          {x[0].distance(x[1]), x[1].distance(x[2]), x[2].distance(x[0])});
+        const auto random_data = [&](const bool with_force) {
+          Vector<double> t(JM::n_traction_values);
+          for (auto &v : t)
+            v = uniform(generator);
+          JM::BodyForce f;
+          if (with_force)
+            for (auto &force : f)
+              {
+                force[0] = uniform(generator) / h;
+                force[1] = uniform(generator) / h;
+              }
+          return std::make_pair(equilibrated(x, t, f), f);
+        };
+        const auto as_array = [](const Vector<double> &v) {
+          std::array<double, JM::n_traction_values> a;
+          std::copy(v.begin(), v.end(), a.begin());
+          return a;
+        };
+        double field_error = 0., energy_error = 0., quadratic_error = 0.;
+        for (unsigned int trial = 0; trial < 10; ++trial)
+          {
+            const auto [t, f]         = random_data(true);
+            const Vector<double> x_h  = apply(r, t, f);
+            const auto           fast = element.field(map, as_array(t), f);
+            const Vector<double> x_fast(fast.begin(), fast.end());
+            field_error =
+              std::max(field_error,
+                       max_difference(x_fast, x_h) / x_h.linfty_norm());
+            energy_error =
+              std::max(energy_error,
+                       std::abs(element.energy(map, fast) /
+                                  r.energy.matrix_norm_square(x_h) -
+                                1.));
+
+            // t1^T H t2 = (R t1)^T W (R t2) and g . t2 = x^T W R t2
+            const auto [t1, f1] = random_data(false);
+            const auto [t2, f2] = random_data(false);
+            FullMatrix<double> hessian;
+            Vector<double>     gradient;
+            element.traction_quadratic(map, fast, hessian, gradient);
+            Vector<double> r1(JM::n_coefficients), r2(JM::n_coefficients),
+              w2(JM::n_coefficients);
+            r.stress_of_traction.vmult(r1, t1);
+            r.stress_of_traction.vmult(r2, t2);
+            r.energy.vmult(w2, r2);
+            const double hessian_form  = hessian.matrix_scalar_product(t1, t2);
+            const double gradient_form = gradient * t2;
+            quadratic_error =
+              std::max({quadratic_error,
+                        std::abs(hessian_form - r1 * w2) /
+                          std::sqrt(r.energy.matrix_norm_square(r1) *
+                                    r.energy.matrix_norm_square(r2)),
+                        std::abs(gradient_form - x_h * w2) /
+                          std::sqrt(r.energy.matrix_norm_square(x_h) *
+                                    r.energy.matrix_norm_square(r2))});
+          }
+        deallog << "  affine maps on equilibrated data: field "
+                << yes_no(field_error < 1e-12, failures) << ", energy "
+                << yes_no(energy_error < 1e-12, failures)
+                << ", traction quadratic "
+                << yes_no(quadratic_error < 1e-12, failures) << std::endl;
+        if (field_error >= 1e-12 || energy_error >= 1e-12 ||
+            quadratic_error >= 1e-12)
+          deallog << "    errors " << field_error << " " << energy_error << " "
+                  << quadratic_error << std::endl;
+      }
+
       // data not in equilibrium: a least-squares solution
       {
         Vector<double> t(JM::n_traction_values);
         for (auto &v : t)
           v = uniform(generator);
         Tensor<1, 2> f;
-        f[0]                          = 0.5;
-        const Vector<double> x_h      = apply(r, t, f);
-        Vector<double>       residual = JM::constraint_rhs(x, t, f);
+        f[0]                     = 0.5;
+        const Vector<double> x_h = apply(r, t, f);
+        Vector<double> residual  = JM::constraint_rhs(x, t, constant_force(f));
         residual *= -1.;
         C.vmult_add(residual, x_h);
         Vector<double> normal(JM::n_coefficients);
         C.Tvmult(normal, residual);
-        deallog << "  non-equilibrated data: defect > 1e-3 "
-                << yes_no(element.constraint_defect(x, x_h, t, f) > 1e-3,
-                          failures)
-                << ", C^T (C x - b) = 0 (least squares) "
-                << yes_no(normal.linfty_norm() < 1e-12 * t.linfty_norm(),
-                          failures)
-                << std::endl;
+        deallog
+          << "  non-equilibrated data: defect > 1e-3 "
+          << yes_no(element.constraint_defect(x, x_h, t, constant_force(f)) >
+                      1e-3,
+                    failures)
+          << ", C^T (C x - b) = 0 (least squares) "
+          << yes_no(normal.linfty_norm() < 1e-12 * t.linfty_norm(), failures)
+          << std::endl;
       }
     }
 

@@ -22,6 +22,7 @@
 #include <array>
 #include <atomic>
 #include <mutex>
+#include <tuple>
 #include <utility>
 
 namespace Signorini
@@ -333,10 +334,64 @@ namespace Signorini
       /// the cell's vertices i: what the prolongation condition asks of the
       /// densities of E on phi_i e_c.
       std::vector<std::array<Tensor<1, 2>, 3>> prolongation_load;
+      /// The body force f~ that the Johnson-Mercier field balances: constant
+      /// on each sub-triangle of the centroid split, f~_e = mean + kappa
+      /// (g_e - g)^perp, with the resultant and the moment about the
+      /// centroid g that f_d has with the assembly's quadrature, which the
+      /// densities balance (so that the element data are in equilibrium to
+      /// round-off; f~ = f_d where f_d is constant on the element).
+      std::vector<JohnsonMercierElement::BodyForce> split_body_force;
       /// Whether f_d is non-zero somewhere (mostly not: its evaluation is
       /// skipped then).
       bool body_force_present = false;
     };
+
+
+
+    /// The body force f~ of CellQuantities::split_body_force on @p cell
+    /// from the values @p force of f_d at the quadrature points of
+    /// @p fe_values.
+    JohnsonMercierElement::BodyForce
+    split_body_force(const DoFHandler<2>::active_cell_iterator &cell,
+                     const FEValues<2>                         &fe_values,
+                     const std::vector<Vector<double>>         &force)
+    {
+      const Point<2> center = cell->center();
+      Tensor<1, 2>   resultant;
+      double         moment = 0.;
+      double         area   = 0.;
+      for (const unsigned int q : fe_values.quadrature_point_indices())
+        {
+          const Tensor<1, 2> arm = fe_values.quadrature_point(q) - center;
+          resultant[0] += force[q][0] * fe_values.JxW(q);
+          resultant[1] += force[q][1] * fe_values.JxW(q);
+          moment +=
+            (arm[0] * force[q][1] - arm[1] * force[q][0]) * fe_values.JxW(q);
+          area += fe_values.JxW(q);
+        }
+      // f~_e = resultant / |E| + kappa (g_e - g)^perp: the arms g_e - g sum
+      // to zero (no resultant), and (g_e - g) x (g_e - g)^perp = |g_e - g|^2
+      std::array<Tensor<1, 2>, 3> arms;
+      double                      arm_square_sum = 0.;
+      for (unsigned int e = 0; e < 3; ++e)
+        {
+          arms[e] =
+            (cell->vertex(e) + cell->vertex((e + 1) % 3) - 2. * center) / 3.;
+          arm_square_sum += arms[e].norm_square();
+        }
+      // (divided in this order: |E| |g_e - g|^2 underflows on meshes of
+      // 1e-90 units)
+      const double kappa =
+        moment == 0. ? 0. : (moment / area) / (arm_square_sum / 3.);
+      JohnsonMercierElement::BodyForce split;
+      for (unsigned int e = 0; e < 3; ++e)
+        {
+          split[e] = resultant / area;
+          split[e][0] -= kappa * arms[e][1];
+          split[e][1] += kappa * arms[e][0];
+        }
+      return split;
+    }
 
 
 
@@ -358,6 +413,7 @@ namespace Signorini
       cells.fe_stress.resize(n_cells);
       cells.admissible_strain.resize(n_cells);
       cells.prolongation_load.resize(n_cells);
+      cells.split_body_force.resize(n_cells);
 
       const FEValuesExtractors::Vector displacement(0);
       struct CellScratch
@@ -407,6 +463,8 @@ namespace Signorini
           for (const auto &value : force)
             if (value.l2_norm() != 0.)
               body_force_present = true;
+          cells.split_body_force[index] =
+            split_body_force(cell, fe_values, force);
           for (const unsigned int v : cell->vertex_indices())
             for (unsigned int c = 0; c < 2; ++c)
               {
@@ -1390,13 +1448,18 @@ namespace Signorini
      * Step 2 with "Element stress = equilibrated": sigma^ on each element is
      * the Johnson-Mercier field of its data (JohnsonMercierElement), a
      * piecewise linear stress on the centroid split in exact equilibrium
-     * with the traction densities and the body force, when the body force
-     * is constant on the element (otherwise with its mean, and the
-     * equilibrium defect shows the difference).
+     * with the traction densities and the body force f~ of
+     * CellQuantities::split_body_force (f_d itself where f_d is constant on
+     * the element). The fields come from the reference triangle's maps
+     * (JohnsonMercierElement::field()), exact for such data.
      */
     class EquilibratedElements
     {
     public:
+      /// The coefficients of a field of the element.
+      using Coefficients =
+        std::array<double, JohnsonMercierElement::n_coefficients>;
+
       /// The fields of the elements from the data of @p input and @p cells
       /// and the densities of @p edges (read when a field is asked for).
       EquilibratedElements(const EquilibrationInput<2> &input,
@@ -1410,23 +1473,22 @@ namespace Signorini
         , edges(edges)
       {}
 
-      /// What one element gives: its maps, data and field.
+      /// What one element gives: its map, data and field.
       struct Field
       {
-        /// The maps of the element.
-        JohnsonMercierElement::Response response;
+        /// The map from the reference triangle.
+        JohnsonMercierElement::AffineMap map;
         /// The vertices, in the cell's order.
         std::array<Point<2>, 3> vertices;
         /// The tractions on the element (JohnsonMercierElement's order).
-        Vector<double> traction;
-        /// The (mean) body force.
-        Tensor<1, 2> body_force;
-        /// sigma^ minus K eps(U^), as coefficients.
-        Vector<double> error;
-        /// sigma^ plus K eps(U^), as coefficients.
-        Vector<double> sum;
+        std::array<double, JohnsonMercierElement::n_traction_values> traction;
+        /// The body force, constant on each sub-triangle
+        /// (CellQuantities::split_body_force).
+        JohnsonMercierElement::BodyForce body_force;
         /// sigma^, as coefficients.
-        Vector<double> coefficients;
+        Coefficients coefficients;
+        /// K eps(U^), as coefficients.
+        Coefficients admissible;
       };
 
       /// The field of a needed cell at the current densities.
@@ -1437,8 +1499,7 @@ namespace Signorini
         Field              result;
         for (const unsigned int v : cell->vertex_indices())
           result.vertices[v] = cell->vertex(v);
-        result.response = element.response(result.vertices);
-        result.traction.reinit(12);
+        result.map = JohnsonMercierElement::affine_map(result.vertices);
         for (unsigned int e = 0; e < 3; ++e)
           {
             const unsigned int edge = patches.edges(index)[e];
@@ -1449,42 +1510,26 @@ namespace Signorini
                   .traction[JohnsonMercierElement::traction_index(e, k, c)] =
                   sign * edges[edge].density[end_of(index, e, k)][c];
           }
-        if (cells.body_force_present)
+        result.body_force = cells.split_body_force[index];
+        result.coefficients =
+          element.field(result.map, result.traction, result.body_force);
+        const SymmetricTensor<2, 2> admissible =
+          input.material.stress(cells.admissible_strain[index]);
+        for (unsigned int node = 0; node < 9; ++node)
           {
-            const QGaussSimplex<2>      rule(4);
-            const AffineTriangle        map(cell);
-            std::vector<Point<2>>       points(rule.size());
-            std::vector<Vector<double>> force(rule.size(), Vector<double>(2));
-            for (unsigned int q = 0; q < rule.size(); ++q)
-              points[q] = map.origin + map.jacobian * rule.point(q);
-            input.boundary_conditions.body_force->vector_value_list(points,
-                                                                    force);
-            for (unsigned int q = 0; q < rule.size(); ++q)
-              for (unsigned int c = 0; c < 2; ++c)
-                result.body_force[c] += 2. * rule.weight(q) * force[q][c];
+            result.admissible[3 * node]     = admissible[0][0];
+            result.admissible[3 * node + 1] = admissible[1][1];
+            result.admissible[3 * node + 2] = admissible[0][1];
           }
-        Vector<double> coefficients(JohnsonMercierElement::n_coefficients);
-        result.response.stress_of_traction.vmult(coefficients, result.traction);
-        for (unsigned int c = 0; c < 2; ++c)
-          for (unsigned int i = 0; i < coefficients.size(); ++i)
-            coefficients[i] +=
-              result.response.stress_of_body_force(i, c) * result.body_force[c];
-        result.coefficients = coefficients;
-        const Vector<double> admissible =
-          JohnsonMercierElement::coefficients_of(
-            input.material.stress(cells.admissible_strain[index]));
-        result.error = coefficients;
-        result.error -= admissible;
-        result.sum = coefficients;
-        result.sum += admissible;
         return result;
       }
 
       /**
-       * J_E = 1/2 (x - x_U)^T M (x - x_U) for the coefficients x = R t + x_f
+       * J_E = 1/2 (x - x_U)^T W (x - x_U) for the coefficients x = R t + x_f
        * of sigma^ and x_U of K eps(U^), in the density slots t = P F of
-       * the cell's edges: gradient P^T R^T M (x - x_U), Hessian
-       * P^T R^T M R P.
+       * the cell's edges: gradient P^T R^T W (x - x_U), Hessian
+       * P^T R^T W R P (JohnsonMercierElement::traction_quadratic() in the
+       * tractions t, P the signed permutation of the slots).
        */
       DensityEnhancement::ElementQuadratic
       quadratic(const DoFHandler<2>::active_cell_iterator &cell,
@@ -1492,32 +1537,37 @@ namespace Signorini
       {
         const unsigned int index   = cell->active_cell_index();
         const Field        current = field(cell);
-        // R P: the coefficients per unit slot value
-        FullMatrix<double> response_of_slot(
-          JohnsonMercierElement::n_coefficients, 12);
+        FullMatrix<double> traction_hessian;
+        Vector<double>     traction_gradient;
+        element.traction_quadratic(current.map,
+                                   difference(current),
+                                   traction_hessian,
+                                   traction_gradient);
+        // the slot position and sign of each traction value
+        std::array<unsigned int, 12> slot;
+        std::array<double, 12>       sign;
         for (unsigned int e = 0; e < 3; ++e)
           {
-            const unsigned int edge = patches.edges(index)[e];
-            const double       sign = enhancement.sign(edge, index);
+            const double s = enhancement.sign(patches.edges(index)[e], index);
             for (unsigned int k = 0; k < 2; ++k)
               for (unsigned int c = 0; c < 2; ++c)
                 {
-                  const unsigned int from =
+                  const unsigned int t =
                     JohnsonMercierElement::traction_index(e, k, c);
-                  const unsigned int to = 4 * e + 2 * end_of(index, e, k) + c;
-                  for (unsigned int i = 0; i < response_of_slot.m(); ++i)
-                    response_of_slot(i, to) +=
-                      sign * current.response.stress_of_traction(i, from);
+                  slot[t] = 4 * e + 2 * end_of(index, e, k) + c;
+                  sign[t] = s;
                 }
           }
-        FullMatrix<double> energy_response(
-          JohnsonMercierElement::n_coefficients, 12);
-        current.response.energy.mmult(energy_response, response_of_slot);
         DensityEnhancement::ElementQuadratic result;
         result.hessian.reinit(12, 12);
-        response_of_slot.Tmmult(result.hessian, energy_response);
         result.gradient.reinit(12);
-        energy_response.Tvmult(result.gradient, current.error);
+        for (unsigned int t = 0; t < 12; ++t)
+          {
+            result.gradient[slot[t]] = sign[t] * traction_gradient[t];
+            for (unsigned int u = 0; u < 12; ++u)
+              result.hessian(slot[t], slot[u]) =
+                sign[t] * sign[u] * traction_hessian(t, u);
+          }
         return result;
       }
 
@@ -1526,20 +1576,35 @@ namespace Signorini
       double
       defect(const Field &field) const
       {
-        return element.constraint_defect(field.vertices,
-                                         field.coefficients,
-                                         field.traction,
-                                         field.body_force);
+        return element.constraint_defect(
+          field.vertices,
+          Vector<double>(field.coefficients.begin(), field.coefficients.end()),
+          Vector<double>(field.traction.begin(), field.traction.end()),
+          field.body_force);
       }
 
-      /// ||sigma^ -/+ K eps(U^)||^2_E of a field.
-      double
-      norm_square(const Field &field, const Vector<double> &coefficients) const
+      /// ||sigma^ - K eps(U^)||^2_E and ||sigma^ + K eps(U^)||^2_E.
+      std::pair<double, double>
+      norm_squares(const Field &field) const
       {
-        return field.response.energy.matrix_norm_square(coefficients);
+        Coefficients sum;
+        for (unsigned int i = 0; i < sum.size(); ++i)
+          sum[i] = field.coefficients[i] + field.admissible[i];
+        return {element.energy(field.map, difference(field)),
+                element.energy(field.map, sum)};
       }
 
     private:
+      /// sigma^ minus K eps(U^), as coefficients.
+      static Coefficients
+      difference(const Field &field)
+      {
+        Coefficients result;
+        for (unsigned int i = 0; i < result.size(); ++i)
+          result[i] = field.coefficients[i] - field.admissible[i];
+        return result;
+      }
+
       /// The end of edge @p e of @p cell (in the edge's order) at the
       /// cell's vertex e + k.
       unsigned int
@@ -1586,8 +1651,8 @@ namespace Signorini
             return;
           const unsigned int index = cell->active_cell_index();
           const auto         field = elements.field(cell);
-          error_squared[index]     = elements.norm_square(field, field.error);
-          sum_squared[index]       = elements.norm_square(field, field.sum);
+          std::tie(error_squared[index], sum_squared[index]) =
+            elements.norm_squares(field);
           const double                cell_defect = elements.defect(field);
           std::lock_guard<std::mutex> lock(mutex);
           defect = std::max(defect, cell_defect);

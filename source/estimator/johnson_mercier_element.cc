@@ -12,7 +12,28 @@ namespace Signorini
   {
     constexpr unsigned int n_rows = JohnsonMercierElement::n_constraints;
     constexpr unsigned int n_cols = JohnsonMercierElement::n_coefficients;
-    constexpr unsigned int n_rhs = JohnsonMercierElement::n_traction_values + 2;
+    constexpr unsigned int n_rhs = JohnsonMercierElement::n_traction_values + 6;
+
+    /// Refuses the triangles of diameter @p h and area @p area too flat for
+    /// a reliable field: the condition number of the constraints is ~5 (h^2
+    /// / |E|)^2, beyond ~1e12 the result would carry no digits worth having.
+    void
+    check_not_degenerate(const double h, const double area)
+    {
+      AssertThrow(h > 0. && area > 1e-6 * h * h,
+                  ExcMessage("a triangle of area < 1e-6 diameter^2 (a sliver) "
+                             "has no reliable Johnson-Mercier field: remesh, "
+                             "or set Error estimator/Element "
+                             "equilibration/Element stress = displacement"));
+    }
+
+    /// The reference triangle of JohnsonMercierElement::AffineMap.
+    const std::array<Point<2>, 3> reference_vertices = {
+      {Point<2>(0., 0.), Point<2>(1., 0.), Point<2>(0., 1.)}};
+
+    /// The Voigt pairs (a, b), a <= b, of reference_hessian_parts.
+    constexpr std::array<std::array<unsigned int, 2>, 6> voigt_pairs = {
+      {{{0, 0}}, {{1, 1}}, {{2, 2}}, {{0, 1}}, {{0, 2}}, {{1, 2}}}};
 
     /// The geometry of the split of one triangle.
     struct Split
@@ -47,13 +68,7 @@ namespace Signorini
         (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) -
         (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
       s.area = 0.5 * std::abs(twice_signed_area);
-      // the condition number of the constraints is ~5 (h^2 / |E|)^2: beyond
-      // ~1e12 the result would carry no digits worth having
-      AssertThrow(s.h > 0. && s.area > 1e-6 * s.h * s.h,
-                  ExcMessage("a triangle of area < 1e-6 diameter^2 (a sliver) "
-                             "has no reliable Johnson-Mercier field: remesh, "
-                             "or set Error estimator/Element "
-                             "equilibration/Element stress = displacement"));
+      check_not_degenerate(s.h, s.area);
       s.rho = s.area / s.h;
       // outward: (d_y, -d_x) for counterclockwise vertices
       const double orientation = twice_signed_area > 0. ? 1. : -1.;
@@ -130,10 +145,10 @@ namespace Signorini
     }
 
     void
-    rhs(const Split                &s,
-        const Vector<double>       &traction,
-        const Tensor<1, 2>         &body_force,
-        std::array<double, n_rows> &b)
+    rhs(const Split                            &s,
+        const Vector<double>                   &traction,
+        const JohnsonMercierElement::BodyForce &body_force,
+        std::array<double, n_rows>             &b)
     {
       AssertDimension(traction.size(),
                       JohnsonMercierElement::n_traction_values);
@@ -143,7 +158,7 @@ namespace Signorini
         b[12 + i] = traction[i];
       for (unsigned int e = 0; e < 3; ++e)
         for (unsigned int i = 0; i < 2; ++i)
-          b[24 + 2 * e + i] = -s.rho * body_force[i];
+          b[24 + 2 * e + i] = -s.rho * body_force[e][i];
     }
 
     /**
@@ -224,6 +239,237 @@ namespace Signorini
                                  "be symmetric"));
           compliance[3 * i + j] = 0.5 * (compliance_(i, j) + compliance_(j, i));
         }
+
+    const Response reference = response(reference_vertices);
+    for (unsigned int i = 0; i < n_coefficients; ++i)
+      {
+        for (unsigned int t = 0; t < n_traction_values; ++t)
+          reference_stress_of_traction[n_traction_values * i + t] =
+            reference.stress_of_traction(i, t);
+        for (unsigned int d = 0; d < 6; ++d)
+          reference_stress_of_body_force[6 * i + d] =
+            reference.stress_of_body_force(i, d);
+      }
+    const auto r = [this](const unsigned int e,
+                          const unsigned int j,
+                          const unsigned int c,
+                          const unsigned int t) {
+      return reference_stress_of_traction[n_traction_values *
+                                            coefficient_index(e, j, c) +
+                                          t];
+    };
+    for (unsigned int p = 0; p < voigt_pairs.size(); ++p)
+      {
+        const unsigned int a = voigt_pairs[p][0], b = voigt_pairs[p][1];
+        auto              &part = reference_hessian_parts[p];
+        part.fill(0.);
+        for (unsigned int e = 0; e < 3; ++e)
+          for (unsigned int j = 0; j < 3; ++j)
+            for (unsigned int l = 0; l < 3; ++l)
+              {
+                const double mass = (j == l ? 2. : 1.);
+                for (unsigned int t = 0; t < n_traction_values; ++t)
+                  for (unsigned int u = 0; u < n_traction_values; ++u)
+                    part[n_traction_values * t + u] +=
+                      mass * (r(e, j, a, t) * r(e, l, b, u) +
+                              (a != b ? r(e, j, b, t) * r(e, l, a, u) : 0.));
+              }
+      }
+  }
+
+
+
+  JohnsonMercierElement::AffineMap
+  JohnsonMercierElement::affine_map(const std::array<Point<2>, 3> &x)
+  {
+    const Tensor<1, 2>          a = x[1] - x[0], b = x[2] - x[0];
+    const double                determinant = a[0] * b[1] - a[1] * b[0];
+    const std::array<double, 3> length      = {
+           {a.norm(), x[2].distance(x[1]), b.norm()}};
+    const std::array<double, 3> reference_length = {{1., std::sqrt(2.), 1.}};
+    AffineMap                   map;
+    map.area = 0.5 * std::abs(determinant);
+    check_not_degenerate(std::max({length[0], length[1], length[2]}), map.area);
+    // F = (a b) as columns
+    map.inverse_jacobian[0][0] = b[1] / determinant;
+    map.inverse_jacobian[0][1] = -b[0] / determinant;
+    map.inverse_jacobian[1][0] = -a[1] / determinant;
+    map.inverse_jacobian[1][1] = a[0] / determinant;
+    map.body_force_map         = std::abs(determinant) * map.inverse_jacobian;
+    for (unsigned int e = 0; e < 3; ++e)
+      map.length_ratio[e] = length[e] / reference_length[e];
+    // (F s F^T)_ij = F_ik s_kl F_jl on the Voigt components (xx, yy, xy)
+    const double j = 1. / std::abs(determinant);
+    map.piola      = {{j * a[0] * a[0],
+                       j * b[0] * b[0],
+                       j * 2. * a[0] * b[0],
+                       j * a[1] * a[1],
+                       j * b[1] * b[1],
+                       j * 2. * a[1] * b[1],
+                       j * a[0] * a[1],
+                       j * b[0] * b[1],
+                       j * (a[0] * b[1] + b[0] * a[1])}};
+    return map;
+  }
+
+
+
+  std::array<double, JohnsonMercierElement::n_coefficients>
+  JohnsonMercierElement::field(
+    const AffineMap                             &map,
+    const std::array<double, n_traction_values> &traction,
+    const BodyForce                             &body_force) const
+  {
+    // the reference data
+    std::array<double, n_traction_values> reference_traction;
+    for (unsigned int e = 0; e < 3; ++e)
+      for (unsigned int k = 0; k < 2; ++k)
+        for (unsigned int c = 0; c < 2; ++c)
+          reference_traction[traction_index(e, k, c)] =
+            map.length_ratio[e] *
+            (map.inverse_jacobian[c][0] * traction[traction_index(e, k, 0)] +
+             map.inverse_jacobian[c][1] * traction[traction_index(e, k, 1)]);
+    std::array<double, 6> reference_force;
+    for (unsigned int e = 0; e < 3; ++e)
+      for (unsigned int i = 0; i < 2; ++i)
+        reference_force[2 * e + i] =
+          map.body_force_map[i][0] * body_force[e][0] +
+          map.body_force_map[i][1] * body_force[e][1];
+
+    // the reference field, then its transform node by node
+    std::array<double, n_coefficients> reference_field, x;
+    for (unsigned int i = 0; i < n_coefficients; ++i)
+      {
+        const double *const row =
+          &reference_stress_of_traction[n_traction_values * i];
+        double value = 0.;
+        for (unsigned int d = 0; d < 6; ++d)
+          value +=
+            reference_stress_of_body_force[6 * i + d] * reference_force[d];
+        for (unsigned int t = 0; t < n_traction_values; ++t)
+          value += row[t] * reference_traction[t];
+        reference_field[i] = value;
+      }
+    for (unsigned int node = 0; node < 9; ++node)
+      for (unsigned int r = 0; r < 3; ++r)
+        x[3 * node + r] = map.piola[3 * r] * reference_field[3 * node] +
+                          map.piola[3 * r + 1] * reference_field[3 * node + 1] +
+                          map.piola[3 * r + 2] * reference_field[3 * node + 2];
+    return x;
+  }
+
+
+
+  double
+  JohnsonMercierElement::energy(
+    const AffineMap                          &map,
+    const std::array<double, n_coefficients> &x) const
+  {
+    // W = |E| / 36 [2 1 1; 1 2 1; 1 1 2] (x) S per sub-triangle
+    double result = 0.;
+    for (unsigned int e = 0; e < 3; ++e)
+      {
+        const double *const   nodes = &x[9 * e];
+        std::array<double, 3> sum   = {{nodes[0] + nodes[3] + nodes[6],
+                                        nodes[1] + nodes[4] + nodes[7],
+                                        nodes[2] + nodes[5] + nodes[8]}};
+        for (unsigned int j = 0; j < 3; ++j)
+          for (unsigned int c = 0; c < 3; ++c)
+            for (unsigned int d = 0; d < 3; ++d)
+              result += nodes[3 * j + c] * compliance[3 * c + d] *
+                        (nodes[3 * j + d] + sum[d]);
+      }
+    return map.area / 36. * result;
+  }
+
+
+
+  void
+  JohnsonMercierElement::traction_quadratic(
+    const AffineMap                          &map,
+    const std::array<double, n_coefficients> &x,
+    FullMatrix<double>                       &hessian,
+    Vector<double>                           &gradient) const
+  {
+    // S^ = |E| / 36 P^T S P, the compliance in reference components with
+    // the scale of W
+    std::array<double, 9> sp, s_hat;
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        sp[3 * i + j] = compliance[3 * i] * map.piola[j] +
+                        compliance[3 * i + 1] * map.piola[3 + j] +
+                        compliance[3 * i + 2] * map.piola[6 + j];
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        s_hat[3 * i + j] =
+          map.area / 36. *
+          (map.piola[i] * sp[j] + map.piola[3 + i] * sp[3 + j] +
+           map.piola[6 + i] * sp[6 + j]);
+
+    // Q: the 2 x 2 blocks ratio_e F^-1 of the reference tractions
+    const auto q = [&map](const unsigned int t, const unsigned int c) {
+      // entry (reference value t, physical component c of the same pair)
+      return map.length_ratio[t / 4] * map.inverse_jacobian[t % 2][c];
+    };
+
+    // H^ = sum_ab S^_ab G_ab, then Q^T H^ Q by 2 x 2 blocks
+    std::array<double, n_traction_values * n_traction_values> h_hat;
+    h_hat.fill(0.);
+    for (unsigned int p = 0; p < voigt_pairs.size(); ++p)
+      {
+        const double weight = s_hat[3 * voigt_pairs[p][0] + voigt_pairs[p][1]];
+        const auto  &part   = reference_hessian_parts[p];
+        for (unsigned int i = 0; i < h_hat.size(); ++i)
+          h_hat[i] += weight * part[i];
+      }
+    hessian.reinit(n_traction_values, n_traction_values);
+    for (unsigned int t = 0; t < n_traction_values; ++t)
+      for (unsigned int u = 0; u < n_traction_values; ++u)
+        {
+          const unsigned int t0 = t - t % 2, u0 = u - u % 2;
+          double             value = 0.;
+          for (unsigned int c = 0; c < 2; ++c)
+            for (unsigned int d = 0; d < 2; ++d)
+              value += q(t0 + c, t % 2) *
+                       h_hat[n_traction_values * (t0 + c) + u0 + d] *
+                       q(u0 + d, u % 2);
+          hessian(t, u) = value;
+        }
+
+    // the gradient Q^T R^^T P^T W x
+    std::array<double, n_coefficients> wx, reference_wx;
+    for (unsigned int e = 0; e < 3; ++e)
+      {
+        const double *const nodes = &x[9 * e];
+        for (unsigned int j = 0; j < 3; ++j)
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              double value = 0.;
+              for (unsigned int d = 0; d < 3; ++d)
+                value += compliance[3 * c + d] * (nodes[3 * j + d] + nodes[d] +
+                                                  nodes[3 + d] + nodes[6 + d]);
+              wx[9 * e + 3 * j + c] = map.area / 36. * value;
+            }
+      }
+    for (unsigned int node = 0; node < 9; ++node)
+      for (unsigned int c = 0; c < 3; ++c)
+        reference_wx[3 * node + c] = map.piola[c] * wx[3 * node] +
+                                     map.piola[3 + c] * wx[3 * node + 1] +
+                                     map.piola[6 + c] * wx[3 * node + 2];
+    std::array<double, n_traction_values> reference_gradient;
+    reference_gradient.fill(0.);
+    for (unsigned int i = 0; i < n_coefficients; ++i)
+      for (unsigned int t = 0; t < n_traction_values; ++t)
+        reference_gradient[t] +=
+          reference_stress_of_traction[n_traction_values * i + t] *
+          reference_wx[i];
+    gradient.reinit(n_traction_values);
+    for (unsigned int t = 0; t < n_traction_values; ++t)
+      {
+        const unsigned int t0 = t - t % 2;
+        gradient[t]           = q(t0, t % 2) * reference_gradient[t0] +
+                      q(t0 + 1, t % 2) * reference_gradient[t0 + 1];
+      }
   }
 
 
@@ -352,15 +598,12 @@ namespace Signorini
         b[t][r]              = 1.;
         b_nonzero[t]         = std::uint32_t(1) << r;
       }
-    for (unsigned int i = 0; i < 2; ++i)
+    for (unsigned int d = 0; d < 6; ++d)
       {
-        b_nonzero[n_traction_values + i] = 0;
-        for (unsigned int e = 0; e < 3; ++e)
-          {
-            const unsigned int r        = order.row_position[24 + 2 * e + i];
-            b[n_traction_values + i][r] = -s.rho;
-            b_nonzero[n_traction_values + i] |= std::uint32_t(1) << r;
-          }
+        // component d % 2 of the force on T_{d / 2}: divergence row 24 + d
+        const unsigned int r             = order.row_position[24 + d];
+        b[n_traction_values + d][r]      = -s.rho;
+        b_nonzero[n_traction_values + d] = std::uint32_t(1) << r;
       }
 
     // Q^T b, then R x = (Q^T b)[0:27]
@@ -399,12 +642,12 @@ namespace Signorini
 
     Response response;
     response.stress_of_traction.reinit(n_cols, n_traction_values);
-    response.stress_of_body_force.reinit(n_cols, 2);
+    response.stress_of_body_force.reinit(n_cols, 6);
     for (unsigned int i = 0; i < n_cols; ++i)
       {
         for (unsigned int t = 0; t < n_traction_values; ++t)
           response.stress_of_traction(order.column[i], t) = b[t][i];
-        for (unsigned int d = 0; d < 2; ++d)
+        for (unsigned int d = 0; d < 6; ++d)
           response.stress_of_body_force(order.column[i], d) =
             b[n_traction_values + d][i];
       }
@@ -483,7 +726,7 @@ namespace Signorini
   Vector<double>
   JohnsonMercierElement::constraint_rhs(const std::array<Point<2>, 3> &vertices,
                                         const Vector<double>          &traction,
-                                        const Tensor<1, 2> &body_force)
+                                        const BodyForce &body_force)
   {
     std::array<double, n_rows> b;
     rhs(split(vertices), traction, body_force, b);
@@ -497,7 +740,7 @@ namespace Signorini
     const std::array<Point<2>, 3> &vertices,
     const Vector<double>          &coefficients,
     const Vector<double>          &traction,
-    const Tensor<1, 2>            &body_force) const
+    const BodyForce               &body_force) const
   {
     AssertDimension(coefficients.size(), n_coefficients);
     const Split s = split(vertices);
@@ -512,8 +755,9 @@ namespace Signorini
         residual[r] += c[j][r] * coefficients[j];
 
     double size = std::max(traction.linfty_norm(), coefficients.linfty_norm());
-    for (unsigned int i = 0; i < 2; ++i)
-      size = std::max(size, s.rho * std::abs(body_force[i]));
+    for (unsigned int e = 0; e < 3; ++e)
+      for (unsigned int i = 0; i < 2; ++i)
+        size = std::max(size, s.rho * std::abs(body_force[e][i]));
     double largest = 0.;
     for (const double r : residual)
       largest = std::max(largest, std::abs(r));

@@ -7,6 +7,7 @@
 #include <deal.II/lac/full_matrix.h>
 
 #include <signorini/estimator/local_loops.h>
+#include <signorini/estimator/small_matrices.h>
 #include <signorini/estimator/star_patch_equilibration.h>
 #include <signorini/estimator/vertex_patches.h>
 
@@ -154,29 +155,13 @@ namespace Signorini
     /**
      * Solve A x = b in place (@p rhs becomes x) for a small symmetric
      * positive definite A (@p matrix), overwritten by its Cholesky factor.
-     * Written out because the patch systems are tiny (tens of unknowns) and
-     * solved by the hundred thousand on the worker threads.
      */
     void
     cholesky_solve(FullMatrix<double> &matrix, Vector<double> &rhs)
     {
       const unsigned int n = matrix.m();
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          double pivot = matrix(j, j);
-          for (unsigned int k = 0; k < j; ++k)
-            pivot -= matrix(j, k) * matrix(j, k);
-          AssertThrow(pivot > 0.,
-                      ExcMessage("patch matrix not positive definite"));
-          matrix(j, j) = std::sqrt(pivot);
-          for (unsigned int i = j + 1; i < n; ++i)
-            {
-              double value = matrix(i, j);
-              for (unsigned int k = 0; k < j; ++k)
-                value -= matrix(i, k) * matrix(j, k);
-              matrix(i, j) = value / matrix(j, j);
-            }
-        }
+      AssertThrow(SmallMatrices::cholesky(matrix),
+                  ExcMessage("patch matrix not positive definite"));
       for (unsigned int i = 0; i < n; ++i)
         {
           for (unsigned int k = 0; k < i; ++k)

@@ -129,21 +129,21 @@ namespace Signorini
     {
       /// The slots it may change.
       std::vector<unsigned int> slots;
+      /// For each cell around the vertex (VertexPatches::cells_of_vertex()),
+      /// the position in slots of each of its 12 values (-1: not changed).
+      std::vector<std::array<int, 12>> positions;
       /// A basis Z of the changes of these slots keeping every element of
-      /// the patch in equilibrium (columns).
+      /// the patch in equilibrium (columns; orthonormal).
       FullMatrix<double> basis;
+      /// B with B B^T = Z (Z^T H Z)^+ Z^T, H the Hessian of the restriction
+      /// of J to the patch: its correction is B B^T r for the residual r.
+      FullMatrix<double> correction;
     };
 
     /// The patch of @p vertex: its slots and the basis of its equilibrated
     /// changes.
     Patch
     describe_patch(const unsigned int vertex) const;
-
-    /// The rows of the equilibrium of @p cell (resultant, moment / h) for
-    /// a unit value of each of @p slots (zero for slots not on the cell).
-    FullMatrix<double>
-    equilibrium_rows(const unsigned int               cell,
-                     const std::vector<unsigned int> &slots) const;
 
     /// The cells and edges.
     const VertexPatches &patches;

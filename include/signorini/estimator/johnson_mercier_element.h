@@ -21,7 +21,8 @@ namespace Signorini
    * equilibrium finite element methods for two-dimensional elasticity
    * problems", Numer. Math. 30 (1978) 103-116): a statically admissible,
    * i.e. exactly equilibrated, stress field on one triangle E from the
-   * linear traction densities on its edges and a constant body force.
+   * linear traction densities on its edges and a body force constant on
+   * each sub-triangle of its split.
    *
    * The triangle E with vertices x0, x1, x2 is split at its centroid g into
    * the three sub-triangles T_e = (g, x_e, x_{e+1 mod 3}), e = 0, 1, 2, so
@@ -42,12 +43,13 @@ namespace Signorini
    *
    *   traction 4 e + 2 k + c,   c the component (traction_index()),
    *
-   * and a constant body force f. The constraints on the 27 coefficients, 30
-   * equations (constraint_matrix() for their order and scaling):
+   * and a body force f, constant on each sub-triangle: f_e on T_e
+   * (BodyForce). The constraints on the 27 coefficients, 30 equations
+   * (constraint_matrix() for their order and scaling):
    *   - 12: continuity of sigma n across each internal edge g-x_k, at g and
    *     at x_k (both sides are linear on that edge);
    *   - 12: sigma n = t at both ends of each macro-edge;
-   *   - 6: div sigma + f = 0 on each T_e (div of a linear field is
+   *   - 6: div sigma + f_e = 0 on each T_e (div of a linear field is
    *     constant), scaled by the length rho = |E| / diam(E) (half the
    *     smallest height of E) so that all rows have the dimension of a
    *     stress and entries of at most 1.5 in size whatever the shape (the
@@ -86,6 +88,9 @@ namespace Signorini
     static constexpr unsigned int n_coefficients    = 27;
     static constexpr unsigned int n_traction_values = 12;
     static constexpr unsigned int n_constraints     = 30;
+
+    /// A body force constant on each sub-triangle: f_e on T_e.
+    using BodyForce = std::array<Tensor<1, 2>, 3>;
 
     /// Coefficient of component @p c (0 xx, 1 yy, 2 xy) of the field of
     /// sub-triangle @p e at its local node @p j (0 g, 1 x_e, 2 x_{e+1}).
@@ -131,7 +136,8 @@ namespace Signorini
       /// 27 x 12: the stress coefficients per unit traction value (column
       /// traction_index(e, k, c)).
       FullMatrix<double> stress_of_traction;
-      /// 27 x 2: the stress coefficients per unit body force component.
+      /// 27 x 6: the stress coefficients per unit body force component
+      /// (column 2 e + i: component i of f_e).
       FullMatrix<double> stress_of_body_force;
       /// 27 x 27 symmetric: int_E sigma : K^-1 tau over the coefficient
       /// vectors (exact P1 mass matrices of the sub-triangles, each of area
@@ -149,6 +155,71 @@ namespace Signorini
      */
     Response
     response(const std::array<Point<2>, 3> &vertices) const;
+
+    /**
+     * What the fast path below needs of one triangle: its affine map
+     * x = x0 + F x^ from the reference triangle x^0 = (0, 0), x^1 = (1, 0),
+     * x^2 = (0, 1) (vertex k onto vertex k, so edge e onto edge e and the
+     * split onto the split) and the double Piola transform
+     * sigma = F sigma^ F^T / |det F|. That transform maps the space onto
+     * itself, the normal tractions of every edge by sigma n ds =
+     * F sigma^ n^ ds^ and the divergence by div sigma = F div^ sigma^ /
+     * |det F|: the field of data (t, f) is the transform of the field of the
+     * reference data t^ = (L_e / L^_e) F^-1 t on edge e and f^ = |det F|
+     * F^-1 f, which is unique for data in equilibrium. The reference maps
+     * are computed once (constructor), so an element costs a few small
+     * products instead of a QR factorisation.
+     */
+    struct AffineMap
+    {
+      /// F^-1.
+      Tensor<2, 2> inverse_jacobian;
+      /// |E| = |det F| / 2.
+      double area;
+      /// |det F| F^-1, the map of the body force.
+      Tensor<2, 2> body_force_map;
+      /// L_e / L^_e for the edges e = 0, 1, 2.
+      std::array<double, 3> length_ratio;
+      /// The Voigt matrix (row major; xx, yy, xy) of sigma^ -> F sigma^ F^T /
+      /// |det F|.
+      std::array<double, 9> piola;
+    };
+
+    /// The map of the triangle with @p vertices (either orientation). Throws
+    /// for a degenerate triangle, as response() does.
+    static AffineMap
+    affine_map(const std::array<Point<2>, 3> &vertices);
+
+    /**
+     * The field (27 coefficients) of the data @p traction (12 values, in
+     * traction_index() order) and @p body_force on the triangle of @p map,
+     * from the reference maps: equal to response() up to round-off for data
+     * in equilibrium; for other data the transform of the least-squares
+     * field of the reference triangle (which may differ from response()'s
+     * by the size of the defect).
+     */
+    std::array<double, n_coefficients>
+    field(const AffineMap                             &map,
+          const std::array<double, n_traction_values> &traction,
+          const BodyForce                             &body_force) const;
+
+    /// int_E sigma : K^-1 sigma for the coefficients @p x on the triangle
+    /// of @p map (x^T W x with W = Response::energy).
+    double
+    energy(const AffineMap                          &map,
+           const std::array<double, n_coefficients> &x) const;
+
+    /**
+     * The quadratic of the field in its traction values, for the triangle
+     * of @p map: @p hessian (12 x 12) = R^T W R with R the map of the
+     * tractions to the coefficients (Response::stress_of_traction up to its
+     * action on data not in equilibrium) and @p gradient (12) = R^T W @p x.
+     */
+    void
+    traction_quadratic(const AffineMap                          &map,
+                       const std::array<double, n_coefficients> &x,
+                       FullMatrix<double>                       &hessian,
+                       Vector<double> &gradient) const;
 
     /// The coefficient vector (27) of the constant stress @p stress.
     static Vector<double>
@@ -171,7 +242,7 @@ namespace Signorini
      *   12 + 4 e + 2 k + c  (12-23): component c of sigma_{T_e} n_e at end k
      *     of macro-edge e (the data: traction_index(e, k, c));
      *   24 + 2 e + i        (24-29): rho (div sigma_{T_e})_i (the data:
-     *     -rho f_i), rho = |E| / diam(E).
+     *     -rho (f_e)_i), rho = |E| / diam(E).
      */
     static FullMatrix<double>
     constraint_matrix(const std::array<Point<2>, 3> &vertices);
@@ -181,7 +252,7 @@ namespace Signorini
     static Vector<double>
     constraint_rhs(const std::array<Point<2>, 3> &vertices,
                    const Vector<double>          &traction,
-                   const Tensor<1, 2>            &body_force);
+                   const BodyForce               &body_force);
 
     /**
      * The largest residual of the 30 constraints (rows scaled as in
@@ -196,11 +267,27 @@ namespace Signorini
     constraint_defect(const std::array<Point<2>, 3> &vertices,
                       const Vector<double>          &coefficients,
                       const Vector<double>          &traction,
-                      const Tensor<1, 2>            &body_force) const;
+                      const BodyForce               &body_force) const;
 
   private:
     /// S, row major
     std::array<double, 9> compliance;
+    /// The maps of response() on the reference triangle, row major:
+    /// coefficients per unit traction value (27 x 12) and per unit body
+    /// force component (27 x 6).
+    std::array<double, n_coefficients * n_traction_values>
+                                           reference_stress_of_traction;
+    std::array<double, n_coefficients * 6> reference_stress_of_body_force;
+    /**
+     * G_ab = R^^T (M^ (x) E_ab) R^ (12 x 12, row major) for the six pairs
+     * a <= b of Voigt components (xx, yy, xy; order 00, 11, 22, 01, 02, 12),
+     * R^ the reference map of the tractions, M^ the pattern [2 1 1; 1 2 1;
+     * 1 1 2] of the P1 mass matrix of a sub-triangle and E_ab the symmetric
+     * unit matrix: the Hessian of any triangle is Q^T (sum_ab S^_ab G_ab) Q
+     * with S^ its compliance in reference components.
+     */
+    std::array<std::array<double, n_traction_values * n_traction_values>, 6>
+      reference_hessian_parts;
   };
 } // namespace Signorini
 
