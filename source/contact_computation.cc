@@ -417,6 +417,10 @@ namespace Signorini
     last_summary.solve_seconds =
       solve_timer.wall_time() + last_summary.nested.seconds;
     judge_solution();
+    // the estimate that follows needs the memory more than the rare solve
+    // after it (the pointwise condition's admissible displacement), which
+    // builds a preconditioner again
+    elasticity_solver.release_preconditioner();
   }
 
 

@@ -297,6 +297,17 @@ namespace Signorini
 
 
   void
+  ElasticitySolver::release_preconditioner()
+  {
+    direct.reset();
+    amg.reset();
+    modified_matrix.clear();
+    current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
+  }
+
+
+
+  void
   ElasticitySolver::update_preconditioner(
     const std::vector<types::global_dof_index> &active_dofs)
   {

@@ -109,6 +109,12 @@ namespace Signorini
           LA::Vector                      &solution,
           const double                     relative_tolerance = 0.);
 
+    /// Free the preconditioner (its matrix and its hierarchy or
+    /// factorisation); the next solve() or update_preconditioner() builds
+    /// one again.
+    void
+    release_preconditioner();
+
     /// "direct (Amesos_Klu)" or "AMG-CG": what initialize() chose.
     std::string
     method() const;

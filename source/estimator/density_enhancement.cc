@@ -340,45 +340,28 @@ namespace Signorini
         1024);
       sum_over_ranks(y);
     };
-    // z = sum_i B_i B_i^T r_i (additive Schwarz): the slots and factors of
-    // all patches in flat arrays, the corrections computed patch by patch
-    // in parallel, then gathered slot by slot from the (at most two)
-    // patches of the slot's edge ends in patch order
-    std::vector<unsigned int> offset(computed.size() + 1, 0),
-      factor_offset(computed.size() + 1, 0);
+    // z = sum_i B_i B_i^T r_i (additive Schwarz): the corrections computed
+    // patch by patch in parallel into one flat array, then gathered slot by
+    // slot from the (at most two) patches of the slot's edge ends, in patch
+    // order
+    std::vector<unsigned int> offset(computed.size() + 1, 0);
+    unsigned int              largest_kernel = 0;
     for (unsigned int p = 0; p < computed.size(); ++p)
       {
         offset[p + 1] = offset[p] + patch_data[p].slots.size();
-        factor_offset[p + 1] =
-          factor_offset[p] +
-          patch_data[p].slots.size() * patch_data[p].correction.n();
+        largest_kernel =
+          std::max<unsigned int>(largest_kernel, patch_data[p].correction.n());
       }
-    std::vector<unsigned int>                patch_slots(offset.back());
-    std::vector<double>                      factors(factor_offset.back());
     std::vector<std::array<unsigned int, 2>> slot_sources(
       n_slots,
       {{numbers::invalid_unsigned_int, numbers::invalid_unsigned_int}});
     for (unsigned int p = 0; p < computed.size(); ++p)
-      {
-        Patch &patch = patch_data[p];
-        for (unsigned int j = 0; j < patch.slots.size(); ++j)
-          {
-            patch_slots[offset[p] + j] = patch.slots[j];
-            auto &sources              = slot_sources[patch.slots[j]];
-            sources[sources[0] == numbers::invalid_unsigned_int ? 0 : 1] =
-              offset[p] + j;
-          }
-        std::copy(patch.correction.begin(),
-                  patch.correction.end(),
-                  factors.begin() + factor_offset[p]);
-        patch = Patch();
-      }
-    unsigned int largest_kernel = 0;
-    for (unsigned int p = 0; p < computed.size(); ++p)
-      if (offset[p + 1] > offset[p])
-        largest_kernel = std::max(largest_kernel,
-                                  (factor_offset[p + 1] - factor_offset[p]) /
-                                    (offset[p + 1] - offset[p]));
+      for (unsigned int j = 0; j < patch_data[p].slots.size(); ++j)
+        {
+          auto &sources = slot_sources[patch_data[p].slots[j]];
+          sources[sources[0] == numbers::invalid_unsigned_int ? 0 : 1] =
+            offset[p] + j;
+        }
     std::vector<double> corrections(offset.back());
     const auto precondition = [&](const Vector<double> &r, Vector<double> &z) {
       parallel::apply_to_subranges(
@@ -388,12 +371,17 @@ namespace Signorini
           std::vector<double> reduced(largest_kernel);
           for (unsigned int p = begin; p < end; ++p)
             {
-              const unsigned int n = offset[p + 1] - offset[p];
-              const unsigned int k =
-                n == 0 ? 0 : (factor_offset[p + 1] - factor_offset[p]) / n;
-              const unsigned int *const slots = &patch_slots[offset[p]];
-              const double *const       b = factors.data() + factor_offset[p];
-              double *const correction    = corrections.data() + offset[p];
+              const Patch       &patch = patch_data[p];
+              const unsigned int n     = patch.slots.size(),
+                                 k     = patch.correction.n();
+              double *const correction = corrections.data() + offset[p];
+              if (k == 0)
+                {
+                  std::fill(correction, correction + n, 0.);
+                  continue;
+                }
+              const unsigned int *const slots = patch.slots.data();
+              const double *const       b     = &patch.correction(0, 0);
               std::fill(reduced.begin(), reduced.begin() + k, 0.);
               for (unsigned int j = 0; j < n; ++j)
                 {
