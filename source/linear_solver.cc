@@ -213,6 +213,12 @@ namespace Signorini
                           "true",
                           Patterns::Bool(),
                           "W-cycles (true) or V-cycles (false).");
+        prm.declare_entry("Smoothed aggregation",
+                          "true",
+                          Patterns::Bool(),
+                          "Smooth the tentative prolongators (true: fewer CG "
+                          "iterations) or not (false: much less memory, more "
+                          "CG iterations; see doc/benchmarks.md, Memory).");
       }
       prm.leave_subsection();
       prm.declare_entry("Maximum iterations",
@@ -240,6 +246,7 @@ namespace Signorini
       aggregation_threshold = prm.get_double("Aggregation threshold");
       smoother_sweeps       = prm.get_integer("Smoother sweeps");
       w_cycle               = prm.get_bool("W-cycle");
+      smoothed_aggregation  = prm.get_bool("Smoothed aggregation");
       prm.leave_subsection();
     }
     prm.leave_subsection();
@@ -390,29 +397,34 @@ namespace Signorini
         data.w_cycle               = w_cycle;
         data.constant_modes        = translation_modes;
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-        if (!with_rotations || rigid_motions == nullptr ||
-            rigid_motions->empty())
+        // deal.II's parameter list, with what deal.II 9.4 does not set: ML
+        // aggregates best when its near null space holds the rotations too
+        // (deal.II passes the translations only), and it must be told that
+        // the dofs come in consecutive groups, one per vertex (deal.II's
+        // numbering of the vector P1 element, never renumbered here), to
+        // aggregate vertices rather than single dofs
+        Teuchos::ParameterList parameters;
+        data.set_parameters(parameters, null_space, matrix);
+        parameters.set("PDE equations",
+                       static_cast<int>(translation_modes.size()));
+        if (!smoothed_aggregation)
+          parameters.set("aggregation: damping factor", 0.);
+        if (with_rotations && rigid_motions != nullptr &&
+            !rigid_motions->empty())
           {
-            amg->initialize(matrix, data);
-            return;
+            const Epetra_Map &map =
+              matrix.trilinos_matrix().OperatorDomainMap();
+            null_space =
+              std::make_unique<Epetra_MultiVector>(map, rigid_motions->size());
+            for (unsigned int m = 0; m < rigid_motions->size(); ++m)
+              for (int i = 0; i < map.NumMyElements(); ++i)
+                (*null_space)[m][i] =
+                  (*rigid_motions)[m][static_cast<types::global_dof_index>(
+                    map.GID(i))];
+            parameters.set("null space: type", "pre-computed");
+            parameters.set("null space: dimension", null_space->NumVectors());
+            parameters.set("null space: vectors", null_space->Values());
           }
-        // ML aggregates best when its near null space holds the rotations
-        // too (deal.II 9.4 passes translations only): replace the null space
-        // of deal.II's parameter list by the rigid motions
-        Teuchos::ParameterList              parameters;
-        std::unique_ptr<Epetra_MultiVector> translations;
-        data.set_parameters(parameters, translations, matrix);
-        const Epetra_Map &map = matrix.trilinos_matrix().OperatorDomainMap();
-        null_space =
-          std::make_unique<Epetra_MultiVector>(map, rigid_motions->size());
-        for (unsigned int m = 0; m < rigid_motions->size(); ++m)
-          for (int i = 0; i < map.NumMyElements(); ++i)
-            (*null_space)[m][i] =
-              (*rigid_motions)[m][static_cast<types::global_dof_index>(
-                map.GID(i))];
-        parameters.set("null space: type", "pre-computed");
-        parameters.set("null space: dimension", null_space->NumVectors());
-        parameters.set("null space: vectors", null_space->Values());
         amg->initialize(matrix, parameters);
       }
   }

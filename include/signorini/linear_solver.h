@@ -155,6 +155,8 @@ namespace Signorini
     unsigned int smoother_sweeps = 1;
     /// Linear solver/AMG: W-cycles rather than V-cycles?
     bool w_cycle = true;
+    /// Linear solver/AMG: smoothed (true) or plain aggregation?
+    bool smoothed_aggregation = true;
     /// The near null space handed to ML (which reads it at setup)
     std::unique_ptr<Epetra_MultiVector> null_space;
     /// The active dofs eliminated in the current preconditioner (sorted),
