@@ -9,9 +9,6 @@
 
 namespace Signorini
 {
-
-
-
   namespace
   {
     /**
