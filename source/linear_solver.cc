@@ -296,9 +296,7 @@ namespace Signorini
     use_direct = (type == Type::direct) ||
                  (type == Type::automatic &&
                   (stiffness.m() <= direct_solver_limit || prefer_direct));
-    direct.reset();
-    amg.reset();
-    current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
+    release_preconditioner();
   }
 
 
@@ -308,6 +306,7 @@ namespace Signorini
   {
     direct.reset();
     amg.reset();
+    null_space.reset();
     modified_matrix.clear();
     current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
   }

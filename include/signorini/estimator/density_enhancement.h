@@ -140,8 +140,8 @@ namespace Signorini
       FullMatrix<double> correction;
     };
 
-    /// The patch of @p vertex: its slots and the basis of its equilibrated
-    /// changes.
+    /// The patch of @p vertex: its slots, their positions in its cells and
+    /// the basis of its equilibrated changes (the correction is left empty).
     Patch
     describe_patch(const unsigned int vertex) const;
 
