@@ -219,6 +219,13 @@ namespace Signorini
                           "Smooth the tentative prolongators (true: fewer CG "
                           "iterations) or not (false: much less memory, more "
                           "CG iterations; see doc/benchmarks.md, Memory).");
+        prm.declare_entry("Low memory",
+                          "false",
+                          Patterns::Bool(),
+                          "Build the hierarchy by plain aggregation from K "
+                          "itself, with no copy of K (the least memory, for "
+                          "the largest meshes; 'Smoothed aggregation' is not "
+                          "used; see doc/benchmarks.md, Memory).");
       }
       prm.leave_subsection();
       prm.declare_entry("Maximum iterations",
@@ -247,6 +254,7 @@ namespace Signorini
       smoother_sweeps       = prm.get_integer("Smoother sweeps");
       w_cycle               = prm.get_bool("W-cycle");
       smoothed_aggregation  = prm.get_bool("Smoothed aggregation");
+      low_memory            = prm.get_bool("Low memory");
       prm.leave_subsection();
     }
     prm.leave_subsection();
@@ -306,6 +314,7 @@ namespace Signorini
   {
     direct.reset();
     amg.reset();
+    aggregation_amg.reset();
     null_space.reset();
     modified_matrix.clear();
     current_eliminated_dofs = {numbers::invalid_dof_index}; // (none built)
@@ -330,6 +339,29 @@ namespace Signorini
       eliminated[dof] = true;
     for (const auto dof : eliminated_dofs)
       eliminated[dof] = true;
+    if (!use_direct && low_memory)
+      {
+        // (masks the eliminated dofs of K itself: no copy)
+        direct.reset();
+        amg.reset();
+        aggregation_amg.reset();
+        AggregationMultigrid::AdditionalData data;
+        data.smoother_degree = smoother_sweeps;
+        data.w_cycle         = w_cycle;
+        Assert(rigid_motions != nullptr &&
+                 rigid_motions->size() >= translation_modes.size(),
+               ExcInternalError());
+        aggregation_amg = std::make_unique<AggregationMultigrid>();
+        aggregation_amg->initialize(*stiffness_matrix,
+                                    eliminated,
+                                    translation_modes.size(),
+                                    *rigid_motions,
+                                    with_rotations ? rigid_motions->size() :
+                                                     translation_modes.size(),
+                                    data);
+        current_eliminated_dofs = eliminated_dofs;
+        return;
+      }
     modified_matrix.copy_from(*stiffness_matrix);
     // (Epetra's row views: deal.II's row iterators copy each row)
     const Epetra_CrsMatrix &source = stiffness_matrix->trilinos_matrix();
@@ -437,18 +469,20 @@ namespace Signorini
                           const double                     tolerance_)
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
-    if (!direct && !amg)
+    if (!direct && !amg && !aggregation_amg)
       update_preconditioner({});
     const DistributedLines lines(constraints.get_lines(),
                                  load.locally_owned_elements());
     // right-hand side C^T (f - K k) + Id_c k
-    LA::Vector inhomogeneity(load);
-    inhomogeneity = 0.;
-    for (const auto *line : lines.own)
-      inhomogeneity[line->index] = line->inhomogeneity;
-    inhomogeneity.compress(VectorOperation::insert);
     LA::Vector rhs(load);
-    stiffness_matrix->vmult(rhs, inhomogeneity);
+    {
+      LA::Vector inhomogeneity(load); // (freed before CG allocates)
+      inhomogeneity = 0.;
+      for (const auto *line : lines.own)
+        inhomogeneity[line->index] = line->inhomogeneity;
+      inhomogeneity.compress(VectorOperation::insert);
+      stiffness_matrix->vmult(rhs, inhomogeneity);
+    }
     rhs.sadd(-1., 1., load);
     lines.add_to_masters(rhs);
     for (const auto *line : lines.own)
@@ -468,6 +502,15 @@ namespace Signorini
           {
             const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
               direct->solve(dst, src);
+            };
+            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
+              inner, lines);
+            cg.solve(op, solution, rhs, preconditioner);
+          }
+        else if (aggregation_amg)
+          {
+            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
+              aggregation_amg->vmult(dst, src);
             };
             const ConstrainedPreconditioner<decltype(inner)> preconditioner(
               inner, lines);

@@ -7,6 +7,7 @@
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>
 
+#include <signorini/aggregation_multigrid.h>
 #include <signorini/linear_algebra.h>
 
 #include <Epetra_MultiVector.h>
@@ -157,6 +158,8 @@ namespace Signorini
     bool w_cycle = true;
     /// Linear solver/AMG: smoothed (true) or plain aggregation?
     bool smoothed_aggregation = true;
+    /// Linear solver/AMG: our own plain aggregation from K, no copy of K?
+    bool low_memory = false;
     /// The near null space handed to ML (which reads it at setup)
     std::unique_ptr<Epetra_MultiVector> null_space;
     /// The active dofs eliminated in the current preconditioner (sorted),
@@ -170,6 +173,8 @@ namespace Signorini
     mutable SolverControl direct_control;
     /// The AMG hierarchy
     std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
+    /// The low-memory AMG hierarchy (Linear solver/AMG/Low memory)
+    std::unique_ptr<AggregationMultigrid> aggregation_amg;
   };
 } // namespace Signorini
 

@@ -8,6 +8,10 @@
 #include <cmath>
 #include <functional>
 
+#ifdef __GLIBC__
+#  include <malloc.h>
+#endif
+
 namespace Signorini
 {
   namespace
@@ -372,6 +376,12 @@ namespace Signorini
   {
     hierarchy.clear();
     forest = BisectionForest();
+#ifdef __GLIBC__
+    // glibc keeps freed small blocks in the heap for reuse; the hierarchy's
+    // are many and the mesh built after them pins the heap's top, so only
+    // this returns their pages to the system (about 0.3 GiB at 1.6M cells)
+    malloc_trim(0);
+#endif
   }
 
 
