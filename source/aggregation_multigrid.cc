@@ -199,8 +199,9 @@ namespace Signorini
             d         = (d > 0. ? 1. / d : 1.);
           }
         // (the finest level's right-hand side and solution are the caller's)
-        for (auto *v : {&level.residual, &level.update})
-          *v = std::make_unique<Epetra_Vector>(A.RowMap());
+        level.residual = std::make_unique<Epetra_Vector>(A.RowMap());
+        if (data.smoother_degree > 1)
+          level.update = std::make_unique<Epetra_Vector>(A.RowMap());
         if (levels.size() > 1)
           for (auto *v : {&level.rhs, &level.solution})
             *v = std::make_unique<Epetra_Vector>(A.RowMap());
@@ -238,46 +239,42 @@ namespace Signorini
                                     A.Comm());
         auto             coarse_null =
           std::make_unique<Epetra_MultiVector>(coarse_map, n_null);
-        std::vector<double> column_norm(n_null);
+        std::vector<double> q; // (the aggregate's columns, in double)
         for (int a = 0; a < n_aggregates; ++a)
           {
-            const auto &rows = rows_of[a];
+            const auto       &rows = rows_of[a];
+            const std::size_t n    = rows.size();
+            q.assign(n * n_null, 0.);
             for (unsigned int m = 0; m < n_null; ++m)
               {
-                double *q     = level.prolongator.data();
-                double  norm0 = 0.;
-                for (const int r : rows)
+                double norm0 = 0.;
+                for (std::size_t i = 0; i < n; ++i)
                   {
-                    q[r * n_null + m] = (*null_space)[m][r];
-                    norm0 += q[r * n_null + m] * q[r * n_null + m];
+                    q[i * n_null + m] = (*null_space)[m][rows[i]];
+                    norm0 += q[i * n_null + m] * q[i * n_null + m];
                   }
                 for (unsigned int pass = 0; pass < 2; ++pass)
                   for (unsigned int k = 0; k < m; ++k)
                     {
                       double dot = 0.;
-                      for (const int r : rows)
-                        dot += q[r * n_null + k] * q[r * n_null + m];
-                      for (const int r : rows)
-                        q[r * n_null + m] -= dot * q[r * n_null + k];
+                      for (std::size_t i = 0; i < n; ++i)
+                        dot += q[i * n_null + k] * q[i * n_null + m];
+                      for (std::size_t i = 0; i < n; ++i)
+                        q[i * n_null + m] -= dot * q[i * n_null + k];
                       (*coarse_null)[m][a * n_null + k] += dot;
                     }
                 double norm = 0.;
-                for (const int r : rows)
-                  norm += q[r * n_null + m] * q[r * n_null + m];
-                norm = std::sqrt(norm);
-                if (norm <= 1e-10 * std::sqrt(norm0) || norm == 0.)
-                  {
-                    for (const int r : rows)
-                      q[r * n_null + m] = 0.;
-                    (*coarse_null)[m][a * n_null + m] = 0.;
-                  }
-                else
-                  {
-                    for (const int r : rows)
-                      q[r * n_null + m] /= norm;
-                    (*coarse_null)[m][a * n_null + m] = norm;
-                  }
+                for (std::size_t i = 0; i < n; ++i)
+                  norm += q[i * n_null + m] * q[i * n_null + m];
+                norm               = std::sqrt(norm);
+                const bool spanned = norm > 1e-10 * std::sqrt(norm0);
+                for (std::size_t i = 0; i < n; ++i)
+                  q[i * n_null + m] = spanned ? q[i * n_null + m] / norm : 0.;
+                (*coarse_null)[m][a * n_null + m] = spanned ? norm : 0.;
               }
+            for (std::size_t i = 0; i < n; ++i)
+              for (unsigned int m = 0; m < n_null; ++m)
+                level.prolongator[rows[i] * n_null + m] = q[i * n_null + m];
           }
 
         // the aggregate (global) and prolongator row of every column of A:
@@ -325,7 +322,7 @@ namespace Signorini
         };
         const auto prolongator_of_column = [&](const int c, const int l) {
           if (const int r = row_of_column[c]; r >= 0)
-            return level.prolongator[r * n_null + l];
+            return double(level.prolongator[r * n_null + l]);
           return (*ghosts)[l + 1][ghost_of_column[c]];
         };
 
@@ -378,7 +375,7 @@ namespace Signorini
                 double *entries;
                 int    *columns;
                 A.ExtractMyRowView(r, n_entries, entries, columns);
-                const double *q_r = &level.prolongator[r * n_null];
+                const float *q_r = &level.prolongator[r * n_null];
                 for (int e = 0; e < n_entries; ++e)
                   {
                     const int c = columns[e];
@@ -506,8 +503,8 @@ namespace Signorini
   {
     // preconditioned CG on A x = b (b pseudo-random), its Lanczos
     // tridiagonal matrix from the CG coefficients
-    Epetra_Vector &r = *level.residual, &p = *level.update;
-    Epetra_Vector  q(r.Map()), z(r.Map());
+    Epetra_Vector &r = *level.residual;
+    Epetra_Vector  p(r.Map()), q(r.Map()), z(r.Map());
     fill_pseudo_random(r);
     z.Multiply(1., *level.inverse_diagonal, r, 0.);
     p = z;
@@ -556,21 +553,30 @@ namespace Signorini
                                const bool           zero_start) const
   {
     // Chebyshev iteration on D^{-1} A over [lambda_max / range, lambda_max]
-    const double   lambda_max = level.max_eigenvalue;
-    const double   lambda_min = lambda_max / data.smoothing_range;
-    const double   theta      = 0.5 * (lambda_max + lambda_min);
-    const double   delta      = 0.5 * (lambda_max - lambda_min);
-    const double   sigma      = theta / delta;
-    double         rho        = 1. / sigma;
-    Epetra_Vector &r = *level.residual, &d = *level.update;
-    if (zero_start)
-      r = b;
-    else
+    const double         lambda_max = level.max_eigenvalue;
+    const double         lambda_min = lambda_max / data.smoothing_range;
+    const double         theta      = 0.5 * (lambda_max + lambda_min);
+    const double         delta      = 0.5 * (lambda_max - lambda_min);
+    const double         sigma      = theta / delta;
+    double               rho        = 1. / sigma;
+    Epetra_Vector       &r          = *level.residual;
+    const Epetra_Vector *first      = &b; // the first residual
+    if (!zero_start)
       {
         apply(level, x, r);
         r.Update(1., b, -1.);
+        first = &r;
       }
-    d.Multiply(1. / theta, *level.inverse_diagonal, r, 0.);
+    if (data.smoother_degree == 1) // (no update to keep)
+      {
+        x.Multiply(1. / theta,
+                   *level.inverse_diagonal,
+                   *first,
+                   zero_start ? 0. : 1.);
+        return;
+      }
+    Epetra_Vector &d = *level.update;
+    d.Multiply(1. / theta, *level.inverse_diagonal, *first, 0.);
     if (zero_start)
       x = d;
     else

@@ -93,12 +93,14 @@ namespace Signorini
       /// Upper bound of the spectrum of D^{-1} A.
       double max_eigenvalue = 1.;
       /// Tentative prolongator to the next level: per local row its local
-      /// aggregate (-1: none) and its n_null values.
-      std::vector<int>    aggregate_of_row;
-      std::vector<double> prolongator;
-      unsigned int        n_null = 0;
+      /// aggregate (-1: none) and its n_null values (in single precision:
+      /// P^T A P is formed from the same rounded values, so the cycle stays
+      /// symmetric; CG's operator is exact)
+      std::vector<int>   aggregate_of_row;
+      std::vector<float> prolongator;
+      unsigned int       n_null = 0;
       /// Work vectors of this level (the right-hand side and solution: on
-      /// the coarse ones only).
+      /// the coarse ones only; the update: for smoothers of degree > 1).
       mutable std::unique_ptr<Epetra_Vector> rhs, solution, residual, update;
     };
 

@@ -1,16 +1,13 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/free_memory.h>
 #include <signorini/input_error.h>
 #include <signorini/registry.h>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
-
-#ifdef __GLIBC__
-#  include <malloc.h>
-#endif
 
 namespace Signorini
 {
@@ -376,12 +373,7 @@ namespace Signorini
   {
     hierarchy.clear();
     forest = BisectionForest();
-#ifdef __GLIBC__
-    // glibc keeps freed small blocks in the heap for reuse; the hierarchy's
-    // are many and the mesh built after them pins the heap's top, so only
-    // this returns their pages to the system (about 0.3 GiB at 1.6M cells)
-    malloc_trim(0);
-#endif
+    return_free_memory_to_system(); // (about 0.3 GiB at 1.6M cells)
   }
 
 
