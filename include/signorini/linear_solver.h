@@ -36,7 +36,9 @@ namespace Signorini
    * Restricted to the dofs left free by the current constraints it stays
    * symmetric positive definite. (A hanging node eliminated rather than
    * condensed only weakens the preconditioner: the operator is exact.) K and
-   * that copy are the only matrices: no condensed K is stored.
+   * that copy are the only matrices: no condensed K is stored. With
+   * Linear solver/AMG/Low memory, K is the only one: AggregationMultigrid
+   * masks the eliminated dofs in its products instead.
    */
   class ElasticitySolver
   {
