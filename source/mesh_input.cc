@@ -6,6 +6,7 @@
 #include <signorini/mesh_input.h>
 #include <signorini/registry.h>
 
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -54,17 +55,21 @@ namespace Signorini
                         "remeshing meshes anew; a relative path is taken "
                         "from the directory of the parameter file.");
       prm.declare_entry("Block subdivisions",
-                        "4, 3",
-                        // (the block is 2D only)
-                        Patterns::List(Patterns::Integer(1), 2, 2),
-                        "Rectangles per direction of the generated block; "
-                        "each is cut into 8 triangles (4 x 3 gives the "
-                        "paper's 96).");
+                        dim == 2 ? "4, 3" : "4, 3, 1",
+                        Patterns::List(Patterns::Integer(1), dim, dim),
+                        dim == 2 ?
+                          "Rectangles per direction of the generated block; "
+                          "each is cut into 8 triangles (4 x 3 gives the "
+                          "paper's 96)." :
+                          "Rectangles in x and y of the block's cross "
+                          "section (each cut into 8 triangles, as in 2D), "
+                          "then layers in z: each triangular prism of a "
+                          "layer is cut into 3 tetrahedra.");
       prm.declare_entry("Initial refinements",
                         "0",
                         Patterns::Integer(0, 12),
                         "Uniform refinements of the initial mesh (each "
-                        "multiplies the number of triangles by 4).");
+                        "multiplies the number of cells by 2^dim).");
     }
     prm.leave_subsection();
   }
@@ -89,14 +94,9 @@ namespace Signorini
     prm.leave_subsection();
     if (source == Source::file && file_name.empty())
       throw InputError("Mesh/File name is empty but Mesh/Source = file");
-    // both sources make triangles
-    if (dim != 2)
-      throw InputError("Mesh/Source = " + source_names<dim>().name(source) +
-                       ": " +
-                       (source == Source::block ?
-                          "the generated block" :
-                          "the Gmsh reader (strictly checked triangles)") +
-                       " is implemented in 2D only");
+    if (dim != 2 && source == Source::file)
+      throw InputError("Mesh/Source = file: the Gmsh reader (strictly "
+                       "checked triangles) is implemented in 2D only");
   }
 
 
@@ -122,27 +122,22 @@ namespace Signorini
 
   namespace
   {
+    /// The boundary ids of the generated block, by the position of each
+    /// boundary face (see the class documentation).
     template <int dim>
     void
-    create_block(const std::vector<unsigned int> &subdivisions,
-                 Triangulation<dim>              &triangulation)
+    set_block_boundary_ids(Triangulation<dim> &triangulation)
     {
-      Assert(dim == 2, ExcNotImplemented());
-      Triangulation<dim> quads;
-      GridGenerator::subdivided_hyper_rectangle(quads,
-                                                subdivisions,
-                                                Point<dim>(),
-                                                Point<dim>(1., 1.));
-      GridGenerator::convert_hypercube_to_simplex_mesh(quads, triangulation);
-
-      // Boundary ids by position, see the class documentation.
       const double tol = 1e-10;
       for (const auto &cell : triangulation.active_cell_iterators())
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary())
             {
               const Point<dim> c = face->center();
-              if (std::abs(c[0]) < tol)
+              if (dim == 3 && (std::abs(c[dim - 1]) < tol ||
+                               std::abs(c[dim - 1] - 1.) < tol))
+                face->set_boundary_id(7);
+              else if (std::abs(c[0]) < tol)
                 face->set_boundary_id(1);
               else if (std::abs(c[1]) < tol)
                 face->set_boundary_id(2);
@@ -152,7 +147,91 @@ namespace Signorini
                 face->set_boundary_id(c[1] > 0.5 ? 4 : 6);
             }
     }
+
+
+
+    /// The unit square of the paper's block, 8 triangles per rectangle.
+    void
+    create_block(const std::vector<unsigned int> &subdivisions,
+                 Triangulation<2>                &triangulation)
+    {
+      Triangulation<2> quads;
+      GridGenerator::subdivided_hyper_rectangle(quads,
+                                                {subdivisions[0],
+                                                 subdivisions[1]},
+                                                Point<2>(),
+                                                Point<2>(1., 1.));
+      GridGenerator::convert_hypercube_to_simplex_mesh(quads, triangulation);
+      set_block_boundary_ids(triangulation);
+    }
+
+
+
+    /**
+     * The block extruded: the unit cube, whose cross section z = const is
+     * the 2D block's mesh, in subdivisions[2] layers. Each triangular prism
+     * is cut into 3 tetrahedra by the diagonals of its quadrilateral faces
+     * that run from the lower-numbered vertex at the bottom to the other at
+     * the top, the same rule on both sides of a face: the mesh is conforming.
+     */
+    void
+    create_block(const std::vector<unsigned int> &subdivisions,
+                 Triangulation<3>                &triangulation)
+    {
+      Triangulation<2> section;
+      create_block(subdivisions, section);
+      const unsigned int    layers = subdivisions[2];
+      const unsigned int    n      = section.n_vertices();
+      std::vector<Point<3>> vertices;
+      for (unsigned int k = 0; k <= layers; ++k)
+        for (const auto &v : section.get_vertices())
+          vertices.emplace_back(v[0], v[1], double(k) / layers);
+      std::vector<CellData<3>> cells;
+      for (const auto &triangle : section.active_cell_iterators())
+        {
+          std::array<unsigned int, 3> v = {{triangle->vertex_index(0),
+                                            triangle->vertex_index(1),
+                                            triangle->vertex_index(2)}};
+          std::sort(v.begin(), v.end());
+          const auto [a, b, c] = v;
+          for (unsigned int k = 0; k < layers; ++k)
+            {
+              const unsigned int bottom = k * n, top = (k + 1) * n;
+              const unsigned int tets[3][4] = {
+                {a + bottom, b + bottom, c + bottom, c + top},
+                {a + bottom, b + bottom, b + top, c + top},
+                {a + bottom, a + top, b + top, c + top}};
+              for (const auto &tet : tets)
+                {
+                  CellData<3> cell(4);
+                  for (unsigned int i = 0; i < 4; ++i)
+                    cell.vertices[i] = tet[i];
+                  // deal.II's reference tetrahedron is positively oriented
+                  const Tensor<1, 3> e1 = vertices[tet[1]] - vertices[tet[0]],
+                                     e2 = vertices[tet[2]] - vertices[tet[0]],
+                                     e3 = vertices[tet[3]] - vertices[tet[0]];
+                  if (e1 * cross_product_3d(e2, e3) < 0.)
+                    std::swap(cell.vertices[1], cell.vertices[2]);
+                  cells.push_back(cell);
+                }
+            }
+        }
+      triangulation.create_triangulation(vertices, cells, SubCellData());
+      set_block_boundary_ids(triangulation);
+    }
   } // namespace
+
+
+
+  template <int dim>
+  std::string
+  MeshInput<dim>::block_subdivisions_text() const
+  {
+    std::string text;
+    for (const unsigned int s : block_subdivisions)
+      text += (text.empty() ? "" : " x ") + std::to_string(s);
+    return text + (dim == 2 ? " rectangles" : " rectangles x layers");
+  }
 
 
 
@@ -160,8 +239,9 @@ namespace Signorini
   double
   MeshInput<dim>::n_block_cells() const
   {
-    // convert_hypercube_to_simplex_mesh() cuts each rectangle into 8
-    double n = 8.;
+    // convert_hypercube_to_simplex_mesh() cuts each rectangle into 8, the
+    // extrusion each triangle of a layer into 3
+    double n = (dim == 2 ? 8. : 24.);
     for (const unsigned int s : block_subdivisions)
       n *= s;
     return n;
@@ -175,17 +255,14 @@ namespace Signorini
   {
     if (source == Source::block)
       {
-        if (dim != 2)
-          throw InputError("Mesh/Source = block is only defined in 2D");
         // deal.II numbers vertices and cells with 32-bit integers
-        if (n_block_cells() * std::pow(4., initial_refinements) > 2e9)
+        if (n_block_cells() * std::pow(2., dim * initial_refinements) > 2e9)
           throw InputError(
-            "Mesh/Block subdivisions: " +
-            std::to_string(block_subdivisions[0]) + " x " +
-            std::to_string(block_subdivisions[1]) + " rectangles and " +
+            "Mesh/Block subdivisions: " + block_subdivisions_text() + " and " +
             std::to_string(initial_refinements) +
-            " initial refinements give more than 2e9 triangles (deal.II "
-            "numbers them with 32-bit integers)");
+            " initial refinements give more than 2e9 " +
+            (dim == 2 ? "triangles" : "tetrahedra") +
+            " (deal.II numbers them with 32-bit integers)");
         // Whatever the subdivisions, x = 1/2 and y = 1/2 are nodes (vertices
         // for even counts, edge midpoints added by the conversion for odd
         // ones), so the load boundaries are resolved exactly.

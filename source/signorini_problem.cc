@@ -18,10 +18,11 @@ namespace Signorini
     prm.declare_entry("Dimension",
                       std::to_string(default_dimension),
                       Patterns::Integer(2, 3),
-                      "Space dimension of the problem. The contact boundary, "
-                      "conditions, solvers and checks are written for both; "
-                      "the mesh input, the stress reconstructions and the "
-                      "adaptive meshes are 2D only and refuse 3 by name.");
+                      "Space dimension of the problem. In 3D: the generated "
+                      "block (extruded), uniform cycles, the contact with "
+                      "both conditions and solvers; the Gmsh reader, the "
+                      "stress reconstructions and adapted meshes are 2D "
+                      "only and refuse 3 by name.");
   }
 
 
@@ -139,10 +140,9 @@ namespace Signorini
         n_coarse = mesh_input.n_block_cells();
         if (n_coarse > max_cells)
           throw InputError(
-            "Mesh/Block subdivisions: " +
-            std::to_string(mesh_input.block_subdivisions[0]) + " x " +
-            std::to_string(mesh_input.block_subdivisions[1]) +
-            " rectangles give " + cell_count(n_coarse) + " triangles" + limit);
+            "Mesh/Block subdivisions: " + mesh_input.block_subdivisions_text() +
+            " give " + cell_count(n_coarse) +
+            (dim == 2 ? " triangles" : " tetrahedra") + limit);
       }
     else
       {

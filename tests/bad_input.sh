@@ -55,10 +55,16 @@ printf 'not a mesh\n' > "$work/garbage.msh"
 
 # Dimension: read first; 3 reaches the parts that are 2D only, which say so
 printf 'set Dimension = 3\nset Output directory = %s/out\n' "$work" > "$work/dim3.prm"
-check "Dimension = 3" "Dimension = 3: Mesh/Source = block: the generated block is implemented in 2D only" \
+check "Dimension = 3" "Dimension = 3: Error estimator/Stress reconstruction = element equilibration is implemented in 2D only" \
   "$work/dim3.prm"
+printf 'set Dimension = 3\nset Output directory = %s/out\nsubsection Mesh\n  set Source = file\n  set File name = x.msh\nend\n' "$work" > "$work/dim3-file.prm"
+check "Dimension = 3, Gmsh file" "Dimension = 3: Mesh/Source = file: the Gmsh reader (strictly checked triangles) is implemented in 2D only" \
+  "$work/dim3-file.prm"
+printf 'set Dimension = 3\nset Output directory = %s/out\nsubsection Mesh\n  set Block subdivisions = 4, 3\nend\n' "$work" > "$work/dim3-subdivisions.prm"
+check "Dimension = 3, two subdivisions" "Dimension = 3: parameter file .*: line 4: Mesh/Block subdivisions: The entry value 4, 3" \
+  "$work/dim3-subdivisions.prm"
 case_prm "Dimension = 4" "Dimension: The entry value 4" "set Dimension = 4"
-case_prm "Dimension = 3 with 2D data" "Dimension = 3: Boundary conditions/Dirichlet 1: invalid function" \
+case_prm "Dimension = 3 with 2D data" "Dimension = 3: parameter file .*: line 13: Mesh/Block subdivisions: The entry value 4, 3" \
   "set Dimension = 3"
 
 # remeshing_case NAME EXPECTED MESH [GEOMETRY]: the block example remeshed

@@ -13,7 +13,7 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * Where the initial triangle mesh comes from: the block of the paper's
+   * Where the initial mesh comes from: the block of the paper's
    * section 7 generated in place, or an ASCII Gmsh file whose
    * physical curve tags become boundary ids (a relative file name is taken
    * from the directory of the parameter file).
@@ -22,6 +22,9 @@ namespace Signorini
    *   1 left edge x = 0, 2 bottom edge y = 0,
    *   3 top edge for x < 1/2, 5 top edge for x > 1/2,
    *   4 right edge for y > 1/2, 6 right edge for y < 1/2.
+   * In 3D the block is extruded to (0,1)^3 in tetrahedra: the same ids on
+   * the faces x, y = const, and 7 on z = 0 and z = 1. The Gmsh reader is 2D
+   * only.
    */
   template <int dim>
   class MeshInput
@@ -37,8 +40,8 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read section Mesh. Both sources make triangles: for dim = 3 this
-    /// throws an InputError naming Mesh/Source (so does create()).
+    /// Read section Mesh. The Gmsh reader reads triangles: with dim = 3 and
+    /// Source = file this throws an InputError naming Mesh/Source.
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -58,11 +61,17 @@ namespace Signorini
     void
     create(Triangulation<dim> &triangulation) const;
 
-    /// The number of triangles of the generated block before its
-    /// refinements (8 per rectangle), known without building it; computed
+    /// The number of cells of the generated block before its
+    /// refinements (8 triangles per rectangle, 24 tetrahedra per rectangle
+    /// and layer), known without building it; computed
     /// in double, so that huge subdivisions do not overflow.
     double
     n_block_cells() const;
+
+    /// "4 x 3 rectangles" (2D), "4 x 3 x 1 rectangles x layers" (3D): for
+    /// messages.
+    std::string
+    block_subdivisions_text() const;
 
     Source      source = Source::block;
     std::string file_name;

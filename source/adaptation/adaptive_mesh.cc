@@ -396,11 +396,48 @@ namespace Signorini
 
   template <>
   void
-  AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &)
+  AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &mesh)
   {
-    throw InputError("Mesh adaptation: the adaptive meshes (rebuilt from the "
-                     "initial mesh and closed by green bisection, for every "
-                     "Strategy) are implemented in 2D only (triangles)");
+    // In 3D only uniformly refined hierarchies (the initial mesh and uniform
+    // cycles) are conforming without a closure: their active tetrahedra are
+    // copied, with the boundary ids of their faces.
+    std::vector<CellData<3>> cells;
+    SubCellData              boundary;
+    hierarchy_cell_of.clear();
+    level_of.clear();
+    green_cells = 0;
+    for (const auto &cell : hierarchy.active_cell_iterators())
+      {
+        for (const unsigned int f : cell->face_indices())
+          {
+            if (cell->face(f)->has_children())
+              throw InputError(
+                "Mesh adaptation: the adaptive meshes (rebuilt from the "
+                "initial mesh and closed by green bisection, for every "
+                "Strategy but uniform refinement) are implemented in 2D only "
+                "(triangles)");
+            if (cell->face(f)->at_boundary())
+              {
+                CellData<2> face(3);
+                for (unsigned int i = 0; i < 3; ++i)
+                  face.vertices[i] = cell->face(f)->vertex_index(i);
+                face.boundary_id = cell->face(f)->boundary_id();
+                boundary.boundary_quads.push_back(face);
+              }
+          }
+        CellData<3> data(4);
+        for (unsigned int i = 0; i < 4; ++i)
+          data.vertices[i] = cell->vertex_index(i);
+        data.material_id = cell->material_id();
+        cells.push_back(data);
+        hierarchy_cell_of.push_back(cell->active_cell_index());
+        level_of.push_back(cell->level());
+      }
+    std::vector<Point<3>> vertices = hierarchy.get_vertices();
+    GridTools::delete_unused_vertices(vertices, cells, boundary);
+    mesh.clear();
+    mesh.create_triangulation(vertices, cells, boundary);
+    AssertDimension(mesh.n_active_cells(), hierarchy_cell_of.size());
   }
 
   template class AdaptiveMesh<2>;
