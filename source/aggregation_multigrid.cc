@@ -9,7 +9,6 @@
 #include <Epetra_Map.h>
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace Signorini
 {
@@ -43,7 +42,7 @@ namespace Signorini
         if (masked_row.empty() || !masked_row[r])
           free_vertex[r / block] = 1;
 
-      // neighbours of vertex v (local, free, other than v) into `out`
+      // the neighbours of vertex v (local, free, other than v)
       std::vector<int> neighbours;
       const auto       collect = [&](const int v) {
         neighbours.clear();
