@@ -55,7 +55,7 @@ namespace Signorini
                         "remeshing meshes anew; a relative path is taken "
                         "from the directory of the parameter file.");
       prm.declare_entry("Block subdivisions",
-                        dim == 2 ? "4, 3" : "4, 3, 1",
+                        dim == 2 ? "4, 3" : "4, 3, 4",
                         Patterns::List(Patterns::Integer(1), dim, dim),
                         dim == 2 ?
                           "Rectangles per direction of the generated block; "
@@ -169,18 +169,24 @@ namespace Signorini
 
     /**
      * The block extruded: the unit cube, whose cross section z = const is
-     * the 2D block's mesh, in subdivisions[2] layers. Each triangular prism
-     * is cut into 3 tetrahedra by the diagonals of its quadrilateral faces
-     * that run from the lower-numbered vertex at the bottom to the other at
-     * the top, the same rule on both sides of a face: the mesh is conforming.
+     * the 2D block's mesh refined @p refinements times, in subdivisions[2]
+     * 2^refinements layers. Each triangular prism is cut into 3 tetrahedra
+     * by the diagonals of its quadrilateral faces that run from the
+     * lower-numbered vertex at the bottom to the other at the top, the same
+     * rule on both sides of a face: the mesh is conforming. Refined this way
+     * (not by deal.II's refinement of tetrahedra, whose smallest dihedral
+     * angle decays from level to level) every level has the shapes of the
+     * first.
      */
     void
     create_block(const std::vector<unsigned int> &subdivisions,
+                 const unsigned int               refinements,
                  Triangulation<3>                &triangulation)
     {
       Triangulation<2> section;
       create_block(subdivisions, section);
-      const unsigned int    layers = subdivisions[2];
+      section.refine_global(refinements);
+      const unsigned int    layers = subdivisions[2] << refinements;
       const unsigned int    n      = section.n_vertices();
       std::vector<Point<3>> vertices;
       for (unsigned int k = 0; k <= layers; ++k)
@@ -266,7 +272,15 @@ namespace Signorini
         // Whatever the subdivisions, x = 1/2 and y = 1/2 are nodes (vertices
         // for even counts, edge midpoints added by the conversion for odd
         // ones), so the load boundaries are resolved exactly.
-        create_block(block_subdivisions, triangulation);
+        if constexpr (dim == 3)
+          {
+            create_block(block_subdivisions,
+                         initial_refinements,
+                         triangulation);
+            return;
+          }
+        else
+          create_block(block_subdivisions, triangulation);
       }
     else
       {

@@ -100,6 +100,8 @@ namespace Signorini
         return;
       }
     build_conforming_mesh(mesh);
+    if (dim == 3) // (the 3D block is built refined: its cells are level 0)
+      level_of.assign(level_of.size(), input.initial_refinements);
   }
 
 
@@ -130,6 +132,22 @@ namespace Signorini
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, &level_change);
+        return;
+      }
+    if (dim == 3)
+      {
+        // uniform changes only: the input is built anew at its new level
+        // (MeshInput refines the 3D block itself, see there)
+        const int change = level_change.empty() ? 0 : level_change[0];
+        if (std::any_of(level_change.begin(),
+                        level_change.end(),
+                        [change](const int k) { return k != change; }))
+          throw InputError("Mesh adaptation: adapted meshes (other than "
+                           "uniform refinement) are implemented in 2D only "
+                           "(triangles)");
+        MeshInput<dim> refined      = input;
+        refined.initial_refinements = std::max(0, int(level_of[0]) + change);
+        initialize(refined, mesh);
         return;
       }
     using cell_iterator = typename Triangulation<dim>::cell_iterator;
@@ -398,9 +416,9 @@ namespace Signorini
   void
   AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &mesh)
   {
-    // In 3D only uniformly refined hierarchies (the initial mesh and uniform
-    // cycles) are conforming without a closure: their active tetrahedra are
-    // copied, with the boundary ids of their faces.
+    // In 3D the hierarchy is the input's mesh, refined by MeshInput itself
+    // (uniform cycles rebuild it, see remesh()): its tetrahedra are copied,
+    // with the boundary ids of their faces.
     std::vector<CellData<3>> cells;
     SubCellData              boundary;
     hierarchy_cell_of.clear();
@@ -412,10 +430,8 @@ namespace Signorini
           {
             if (cell->face(f)->has_children())
               throw InputError(
-                "Mesh adaptation: the adaptive meshes (rebuilt from the "
-                "initial mesh and closed by green bisection, for every "
-                "Strategy but uniform refinement) are implemented in 2D only "
-                "(triangles)");
+                "Mesh adaptation: adapted meshes (other than uniform "
+                "refinement) are implemented in 2D only (triangles)");
             if (cell->face(f)->at_boundary())
               {
                 CellData<2> face(3);
