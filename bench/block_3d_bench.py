@@ -20,7 +20,6 @@ import argparse
 import csv
 import os
 import re
-import shutil
 import statistics
 import subprocess
 import sys
@@ -28,25 +27,14 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from contact_bench import write_case  # noqa: E402
 
 
 def run(exe, ranks, overrides, work):
     """Run block-3d.prm with @p overrides on @p ranks; return (statistics
     row, stage seconds, peak MiB of the largest rank)."""
-    out = os.path.join(work, "out")
-    prm = os.path.join(work, "case.prm")
-    with open(os.path.join(ROOT, "prm", "block-3d.prm")) as base, \
-            open(prm, "w") as f:
-        f.write(base.read())
-        f.write(f"\nset Output directory = {out}\n")
-        for path, value in overrides.items():
-            parts = path.split("/")
-            for p in parts[:-1]:
-                f.write(f"subsection {p}\n")
-            f.write(f"set {parts[-1]} = {value}\n")
-            for _ in parts[:-1]:
-                f.write("end\n")
-    shutil.rmtree(out, ignore_errors=True)
+    prm, out = write_case("block-3d.prm", overrides, work)
     command = [exe, prm]
     if ranks > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",

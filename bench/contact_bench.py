@@ -28,16 +28,15 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
 
-def run_case(exe, overrides, workdir):
-    """Run block.prm with overrides; return (last statistics row, peak MiB)."""
+def write_case(example, overrides, workdir):
+    """prm/@p example with its output in @p workdir/out and the @p overrides
+    (parameter path -> value) appended, as @p workdir/case.prm; returns the
+    paths of the file and of the (emptied) output directory."""
     out = os.path.join(workdir, "out")
     prm = os.path.join(workdir, "case.prm")
-    with open(os.path.join(ROOT, "prm", "block.prm")) as base, open(prm, "w") as f:
+    with open(os.path.join(ROOT, "prm", example)) as base, open(prm, "w") as f:
         f.write(base.read())
         f.write(f"\nset Output directory = {out}\n")
-        overrides = dict(overrides)
-        overrides.setdefault("Output/Write vtu", "false")
-        overrides.setdefault("Output/Print timing", "false")
         for path, value in overrides.items():
             parts = path.split("/")
             for p in parts[:-1]:
@@ -46,6 +45,15 @@ def run_case(exe, overrides, workdir):
             for _ in parts[:-1]:
                 f.write("end\n")
     shutil.rmtree(out, ignore_errors=True)  # (no stale results)
+    return prm, out
+
+
+def run_case(exe, overrides, workdir):
+    """Run block.prm with overrides; return (last statistics row, peak MiB)."""
+    overrides = dict(overrides)
+    overrides.setdefault("Output/Write vtu", "false")
+    overrides.setdefault("Output/Print timing", "false")
+    prm, out = write_case("block.prm", overrides, workdir)
     with tempfile.TemporaryFile() as errors:
         process = subprocess.Popen([exe, prm], stdout=subprocess.DEVNULL,
                                    stderr=errors)

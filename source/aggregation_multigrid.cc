@@ -204,6 +204,9 @@ namespace Signorini
         if (levels.size() > 1)
           for (auto *v : {&level.rhs, &level.solution})
             *v = std::make_unique<Epetra_Vector>(A.RowMap());
+        if (levels.size() > 1 && data.w_cycle)
+          for (auto *v : {&level.second_rhs, &level.second_solution})
+            *v = std::make_unique<Epetra_Vector>(A.RowMap());
         level.max_eigenvalue = estimate_max_eigenvalue(level);
 
         // (the finest level is always coarsened: it is only smoothed, its
@@ -628,23 +631,17 @@ namespace Signorini
         for (unsigned int m = 0; m < n_null; ++m)
           coarse_b[a * n_null + m] += level.prolongator[i * n_null + m] * r[i];
     // coarse correction (twice in a W-cycle: the second on the residual of
-    // the first); the coarse level's rhs and solution vectors are its own
-    // work space, so the correction goes through fresh vectors here
-    Epetra_Vector coarse_x(coarse_b.Map());
-    if (l + 2 == levels.size())
-      cycle(l + 1, coarse_b, coarse_x); // (exact: once is enough)
-    else
+    // the first; once when the coarse level is solved exactly)
+    Epetra_Vector &coarse_x = *coarse.solution;
+    cycle(l + 1, coarse_b, coarse_x);
+    if (data.w_cycle && l + 2 < levels.size())
       {
-        Epetra_Vector coarse_rhs(coarse_b);
-        cycle(l + 1, coarse_rhs, coarse_x);
-        if (data.w_cycle)
-          {
-            Epetra_Vector coarse_r(coarse_b.Map()), coarse_e(coarse_b.Map());
-            apply(coarse, coarse_x, coarse_r);
-            coarse_r.Update(1., coarse_b, -1.);
-            cycle(l + 1, coarse_r, coarse_e);
-            coarse_x.Update(1., coarse_e, 1.);
-          }
+        Epetra_Vector &coarse_r = *coarse.second_rhs,
+                      &coarse_e = *coarse.second_solution;
+        apply(coarse, coarse_x, coarse_r);
+        coarse_r.Update(1., coarse_b, -1.);
+        cycle(l + 1, coarse_r, coarse_e);
+        coarse_x.Update(1., coarse_e, 1.);
       }
     // prolongate and post-smooth
     for (int i = 0; i < x.MyLength(); ++i)

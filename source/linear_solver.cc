@@ -341,9 +341,8 @@ namespace Signorini
       eliminated[dof] = true;
     if (!use_direct && low_memory)
       {
-        // (masks the eliminated dofs of K itself: no copy)
-        direct.reset();
-        amg.reset();
+        // (masks the eliminated dofs of K itself: no copy; the former
+        // hierarchy is freed before the new one is built)
         aggregation_amg.reset();
         AggregationMultigrid::AdditionalData data;
         data.smoother_degree = smoother_sweeps;
@@ -498,33 +497,18 @@ namespace Signorini
     SolverCG<LA::Vector> cg(control);
     try
       {
-        if (use_direct)
-          {
-            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
-              direct->solve(dst, src);
-            };
-            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
-              inner, lines);
-            cg.solve(op, solution, rhs, preconditioner);
-          }
-        else if (aggregation_amg)
-          {
-            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
-              aggregation_amg->vmult(dst, src);
-            };
-            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
-              inner, lines);
-            cg.solve(op, solution, rhs, preconditioner);
-          }
-        else
-          {
-            const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
-              amg->vmult(dst, src);
-            };
-            const ConstrainedPreconditioner<decltype(inner)> preconditioner(
-              inner, lines);
-            cg.solve(op, solution, rhs, preconditioner);
-          }
+        // the preconditioner built: direct, ML or the low-memory hierarchy
+        const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
+          if (direct)
+            direct->solve(dst, src);
+          else if (aggregation_amg)
+            aggregation_amg->vmult(dst, src);
+          else
+            amg->vmult(dst, src);
+        };
+        const ConstrainedPreconditioner<decltype(inner)> preconditioner(inner,
+                                                                        lines);
+        cg.solve(op, solution, rhs, preconditioner);
       }
     catch (const SolverControl::NoConvergence &exc)
       {

@@ -99,9 +99,12 @@ namespace Signorini
       std::vector<int>   aggregate_of_row;
       std::vector<float> prolongator;
       unsigned int       n_null = 0;
-      /// Work vectors of this level (the right-hand side and solution: on
-      /// the coarse ones only; the update: for smoothers of degree > 1).
-      mutable std::unique_ptr<Epetra_Vector> rhs, solution, residual, update;
+      /// Work vectors of this level: on the coarse ones the right-hand side
+      /// and solution of the correction (the coarsest: of its direct solve),
+      /// and of the W-cycle's second visit; the update: for smoothers of
+      /// degree > 1.
+      mutable std::unique_ptr<Epetra_Vector> rhs, solution, second_rhs,
+        second_solution, residual, update;
     };
 
     /// y = A x on @p level (masked on the finest: x is changed during the
