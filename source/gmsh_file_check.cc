@@ -28,12 +28,16 @@ namespace Signorini
     /// Relative tolerance on areas, times the squared diameter of the mesh.
     constexpr double area_tolerance = 1e-12;
 
+    /// Relative tolerance on volumes, times the cubed diameter of the mesh.
+    constexpr double volume_tolerance = 1e-18;
+
     /// The Gmsh element types signorini reads; any other is refused.
     enum ElementType : int
     {
-      line_element     = 1,
-      triangle_element = 2,
-      point_element    = 15
+      line_element        = 1,
+      triangle_element    = 2,
+      tetrahedron_element = 4,
+      point_element       = 15
     };
 
     /// A printable excerpt of a line or token of the file for a message:
@@ -48,12 +52,15 @@ namespace Signorini
       return result + (text.size() > max_length ? "...>" : ">");
     }
 
-    /// "(x, y)" for messages.
+    /// "(x, y)" or "(x, y, z)" for messages.
     std::string
-    coordinates(const std::array<double, 3> &x)
+    coordinates(const std::array<double, 3> &x, const unsigned int dim = 2)
     {
       std::ostringstream out;
-      out << "(" << x[0] << ", " << x[1] << ")";
+      out << "(" << x[0] << ", " << x[1];
+      if (dim == 3)
+        out << ", " << x[2];
+      out << ")";
       return out.str();
     }
 
@@ -100,14 +107,50 @@ namespace Signorini
       unsigned int          line;
     };
 
-    /// A triangle or line element of the file: its Gmsh tag, line, physical
-    /// tag and nodes (indices into the list of nodes; 2 used by lines).
+    /// A cell (triangle in 2D, tetrahedron in 3D) or boundary element (line
+    /// in 2D, triangle in 3D) of the file: its Gmsh tag, line, physical tag
+    /// and nodes (indices into the list of nodes; the first 2, 3 or 4 used).
     struct Element
     {
       long long                   tag;
       unsigned int                line;
       long long                   physical;
-      std::array<unsigned int, 3> nodes;
+      std::array<unsigned int, 4> nodes;
+    };
+
+    /// Disjoint sets of cells (union-find with path halving).
+    class UnionFind
+    {
+    public:
+      explicit UnionFind(const unsigned int n)
+        : parent(n)
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          parent[i] = i;
+      }
+
+      unsigned int
+      root(unsigned int i)
+      {
+        while (parent[i] != i)
+          i = parent[i] = parent[parent[i]];
+        return i;
+      }
+
+      void
+      join(const unsigned int i, const unsigned int j)
+      {
+        parent[root(i)] = root(j);
+      }
+
+      unsigned int
+      size() const
+      {
+        return parent.size();
+      }
+
+    private:
+      std::vector<unsigned int> parent;
     };
 
     /**
@@ -120,18 +163,37 @@ namespace Signorini
     class GmshParser
     {
     public:
-      GmshParser(const std::string &path, const std::string &text)
+      GmshParser(const std::string &path,
+                 const std::string &text,
+                 const unsigned int dim)
         : path(path)
         , text(text)
+        , dim(dim)
+        , cell_type(dim == 2 ? triangle_element : tetrahedron_element)
+        , face_type(dim == 2 ? line_element : triangle_element)
       {}
 
-      /// Parse the whole file and check its geometry.
-      GmshTriangleMesh
+      /// Parse the whole file (of a mesh of dimension dim).
+      void
       parse();
+
+      /// The geometric checks of a mesh of triangles, and the mesh.
+      GmshMesh<2>
+      check_triangles() const;
+
+      /// The geometric checks of a mesh of tetrahedra, and the mesh.
+      GmshMesh<3>
+      check_tetrahedra() const;
 
     private:
       const std::string &path;
       const std::string &text;
+
+      /// 2: a mesh of triangles, 3: of tetrahedra.
+      const unsigned int dim;
+
+      /// The Gmsh types of the cells and of their faces.
+      const ElementType cell_type, face_type;
 
       /// Start of the next line in text.
       std::size_t position = 0;
@@ -157,9 +219,10 @@ namespace Signorini
       std::vector<Node>                           nodes;
       std::unordered_map<long long, unsigned int> node_index;
 
-      /// The triangles and the line elements, in file order.
-      std::vector<Element> triangles;
-      std::vector<Element> lines;
+      /// The cells (triangles in 2D, tetrahedra in 3D) and the elements of
+      /// their faces (lines in 2D, triangles in 3D), in file order.
+      std::vector<Element> cells;
+      std::vector<Element> faces;
 
       [[noreturn]] void
       fail_at(const unsigned int at, const std::string &what) const
@@ -268,9 +331,24 @@ namespace Signorini
       long long
       entity_physical_tag(const long long dim, const long long tag) const;
 
-      /// The geometric checks, and the mesh.
-      GmshTriangleMesh
-      check_geometry() const;
+      /// The checks common to both dimensions: the nodes the cells use
+      /// (@p used, in file order; @p vertex: the index among them of each
+      /// node, or -1), the bounding box (@p low, @p high) and its
+      /// @p diameter, the range of the coordinates, a flat mesh in 2D and no
+      /// two nodes at the same point.
+      void
+      check_nodes(std::vector<unsigned int> &vertex,
+                  std::vector<unsigned int> &used,
+                  std::array<double, 3>     &low,
+                  std::array<double, 3>     &high,
+                  double                    &diameter) const;
+
+      /// Fail unless the cells are one body, connected through the shared
+      /// faces of @p faces (each face's side[] names the cells on either
+      /// side, -1 for none): a second part would float free in the solver.
+      template <typename FaceMap>
+      void
+      check_one_body(const FaceMap &faces) const;
     };
 
 
@@ -536,10 +614,11 @@ namespace Signorini
                 expected += 1 + n_bounding;
               }
             expect_tokens(expected, what);
-            // a curve's physical tag is its boundary id, a surface's its
-            // material id: one at most, as in deal.II; points and volumes
-            // play no role in a 2D mesh
-            if (n_physicals > 1 && (d == 1 || d == 2))
+            // the physical tag of an entity of the faces' dimension is its
+            // boundary id, of the cells' its material id: one at most, as in
+            // deal.II; entities of lower dimensions play no role
+            const bool tagged = (d + 1 == dim || d == dim);
+            if (n_physicals > 1 && tagged)
               fail(std::string(kind[d]) + " " + std::to_string(tag) +
                    " belongs to " + std::to_string(n_physicals) +
                    " physical groups; signorini takes at most one per " +
@@ -547,7 +626,7 @@ namespace Signorini
             long long physical = 0;
             for (long long j = 0; j < n_physicals; ++j)
               physical =
-                (d == 1 || d == 2) ?
+                tagged ?
                   integer(n_physicals_at + 1 + j, "physical tag", 0, INT_MAX) :
                   integer(n_physicals_at + 1 + j, "physical tag");
             if (!entities.emplace(std::make_pair(d, tag), physical).second)
@@ -676,36 +755,46 @@ namespace Signorini
     unsigned int
     GmshParser::nodes_per_element(const long long type) const
     {
+      const std::string needed =
+        dim == 2 ? "a mesh of 3-node triangles" :
+                   "a mesh of 4-node tetrahedra (with 3-node triangles on "
+                   "its boundary)";
       switch (type)
         {
+          case point_element:
+            return 1;
           case line_element:
             return 2;
           case triangle_element:
             return 3;
-          case point_element:
-            return 1;
+          case tetrahedron_element:
+            if (dim == 3)
+              return 4;
+            fail("tetrahedra (type 4) are 3D elements: signorini reads them "
+                 "with Dimension = 3; in 2D it needs a mesh of triangles");
           case 3:
           case 16:
           case 10:
             fail("quadrilateral elements (type " + std::to_string(type) +
-                 ") are not supported: signorini needs a mesh of triangles "
-                 "(do not recombine)");
-          case 4:
+                 ") are not supported: signorini needs " + needed +
+                 " (do not recombine)");
           case 5:
           case 6:
           case 7:
-          case 11:
           case 12:
           case 13:
           case 14:
           case 17:
           case 18:
           case 19:
-            fail("3D elements (type " + std::to_string(type) +
-                 ") are not supported: signorini needs a 2D mesh of "
-                 "triangles");
+            fail("hexahedra, prisms and pyramids (type " +
+                 std::to_string(type) +
+                 ") are not supported: signorini "
+                 "needs " +
+                 needed);
           case 8:
           case 9:
+          case 11:
           case 20:
           case 21:
           case 22:
@@ -716,12 +805,16 @@ namespace Signorini
           case 27:
           case 28:
             fail("high-order elements (type " + std::to_string(type) +
-                 ") are not supported: save a first-order mesh of 3-node "
-                 "triangles (gmsh -order 1)");
+                 ") are not supported: save a first-order mesh "
+                 "(gmsh -order 1); signorini needs " +
+                 needed);
           default:
             fail("element type " + std::to_string(type) +
-                 " is not supported: signorini reads 3-node triangles "
-                 "(type 2), 2-node lines (1) and points (15)");
+                 " is not supported: signorini reads " +
+                 (dim == 2 ? "3-node triangles (type 2), 2-node lines (1) "
+                             "and points (15)" :
+                             "4-node tetrahedra (type 4), 3-node triangles "
+                             "(2), 2-node lines (1) and points (15)"));
         }
     }
 
@@ -736,7 +829,7 @@ namespace Signorini
       element.tag          = integer(0, "element tag", 1);
       element.line         = line_number;
       element.physical     = physical;
-      element.nodes        = {{0, 0, 0}};
+      element.nodes        = {{0, 0, 0, 0}};
       const unsigned int n = nodes_per_element(type);
       for (unsigned int v = 0; v < n; ++v)
         {
@@ -751,10 +844,11 @@ namespace Signorini
               fail("element " + std::to_string(element.tag) + " uses node " +
                    std::to_string(tag) + " twice");
         }
-      if (type == triangle_element)
-        triangles.push_back(element);
-      else if (type == line_element)
-        lines.push_back(element);
+      // lower-dimensional elements (points; lines in 3D) carry nothing
+      if (type == cell_type)
+        cells.push_back(element);
+      else if (type == face_type)
+        faces.push_back(element);
     }
 
 
@@ -833,9 +927,10 @@ namespace Signorini
           const long long type   = integer(2, "element type");
           const long long n      = integer(3, "number of elements", 0);
           const unsigned int n_nodes  = nodes_per_element(type);
-          const long long    type_dim = type == point_element ? 0 :
-                                        type == line_element  ? 1 :
-                                                                2;
+          const long long    type_dim = type == point_element    ? 0 :
+                                        type == line_element     ? 1 :
+                                        type == triangle_element ? 2 :
+                                                                   3;
           if (dim != type_dim)
             fail(block + " puts elements of type " + std::to_string(type) +
                  " on an entity of dimension " + std::to_string(dim));
@@ -882,7 +977,7 @@ namespace Signorini
 
 
 
-    GmshTriangleMesh
+    void
     GmshParser::parse()
     {
       parse_header();
@@ -929,26 +1024,33 @@ namespace Signorini
         fail("the file ends before " +
              std::string(have_nodes ? "$Elements" : "$Nodes") +
              " (is it truncated?)");
-      return check_geometry();
     }
 
 
 
-    GmshTriangleMesh
-    GmshParser::check_geometry() const
+    void
+    GmshParser::check_nodes(std::vector<unsigned int> &vertex,
+                            std::vector<unsigned int> &used,
+                            std::array<double, 3>     &low,
+                            std::array<double, 3>     &high,
+                            double                    &diameter) const
     {
-      if (triangles.empty())
-        throw InputError("<" + path +
-                         "> contains no triangles (Gmsh type 2): signorini "
-                         "needs a 2D mesh of 3-node triangles");
+      if (cells.empty())
+        throw InputError(
+          "<" + path + "> contains no " +
+          (dim == 2 ? "triangles (Gmsh type 2): signorini needs a 2D mesh of "
+                      "3-node triangles" :
+                      "tetrahedra (Gmsh type 4): with Dimension = 3 signorini "
+                      "needs a 3D mesh of 4-node tetrahedra"));
+      const std::string cell_name = dim == 2 ? "triangles" : "tetrahedra";
 
-      // The nodes used by triangles, renumbered in file order.
-      const unsigned int        unused = static_cast<unsigned int>(-1);
-      std::vector<unsigned int> vertex(nodes.size(), unused);
-      for (const Element &t : triangles)
-        for (const unsigned int n : t.nodes)
-          vertex[n] = 0;
-      std::vector<unsigned int> used;
+      // The nodes used by the cells, renumbered in file order.
+      const unsigned int unused = static_cast<unsigned int>(-1);
+      vertex.assign(nodes.size(), unused);
+      for (const Element &c : cells)
+        for (unsigned int k = 0; k <= dim; ++k)
+          vertex[c.nodes[k]] = 0;
+      used.clear();
       for (unsigned int n = 0; n < nodes.size(); ++n)
         if (vertex[n] != unused)
           {
@@ -957,19 +1059,18 @@ namespace Signorini
           }
 
       // Size of the mesh: its bounding box diameter.
-      std::array<double, 3> low = nodes[used[0]].x, high = low;
+      low = nodes[used[0]].x, high = low;
       for (const unsigned int n : used)
         for (unsigned int d = 0; d < 3; ++d)
           {
             low[d]  = std::min(low[d], nodes[n].x[d]);
             high[d] = std::max(high[d], nodes[n].x[d]);
           }
-      const double diameter =
+      diameter =
         std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
       if (diameter == 0.)
-        throw InputError("<" + path +
-                         ">: all nodes of the triangles are at the point " +
-                         coordinates(low));
+        throw InputError("<" + path + ">: all nodes of the " + cell_name +
+                         " are at the point " + coordinates(low, dim));
       // Extreme scales: areas and squared lengths would underflow or
       // overflow in the assembly and the checks.
       if (!std::isfinite(diameter) || diameter > 1e100 || diameter < 1e-100)
@@ -991,59 +1092,117 @@ namespace Signorini
               reject_at(nodes[n].line, message.str());
             }
 
-      // A flat mesh in a plane z = const: its z is dropped.
+      // In 2D, a flat mesh in a plane z = const: its z is dropped.
       const double tolerance = distance_tolerance * diameter;
       const Node  &first     = nodes[used[0]];
       for (const unsigned int n : used)
-        if (std::abs(nodes[n].x[2] - first.x[2]) > tolerance)
+        if (dim == 2 && std::abs(nodes[n].x[2] - first.x[2]) > tolerance)
           {
             std::ostringstream message;
             message << "node " << nodes[n].tag << " has z = " << nodes[n].x[2]
                     << " while node " << first.tag << " has z = " << first.x[2]
-                    << ": signorini needs a flat mesh in a plane z = const";
+                    << ": signorini needs a flat mesh in a plane z = const "
+                       "(a 3D mesh needs Dimension = 3)";
             reject_at(nodes[n].line, message.str());
           }
 
       // Coincident nodes, found by hashing the points into cells of the
       // size of the tolerance and comparing neighbouring cells only.
-      {
-        const auto cell_of = [&](const Node &node, const unsigned int d) {
-          return static_cast<long long>(
-            std::floor((node.x[d] - low[d]) / tolerance));
+      const auto cell_of = [&](const Node &node, const unsigned int d) {
+        return d < dim ? static_cast<long long>(
+                           std::floor((node.x[d] - low[d]) / tolerance)) :
+                         0LL;
+      };
+      const auto key =
+        [](const long long i, const long long j, const long long k) {
+          return (static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
+                  static_cast<std::uint64_t>(j)) *
+                   0xC2B2AE3D27D4EB4FULL ^
+                 static_cast<std::uint64_t>(k);
         };
-        const auto key = [](const long long i, const long long j) {
-          return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
-                 static_cast<std::uint64_t>(j);
-        };
-        std::unordered_multimap<std::uint64_t, unsigned int> grid;
-        grid.reserve(used.size());
-        for (const unsigned int n : used)
-          {
-            const long long i = cell_of(nodes[n], 0), j = cell_of(nodes[n], 1);
-            for (long long di = -1; di <= 1; ++di)
-              for (long long dj = -1; dj <= 1; ++dj)
+      const long long reach = dim == 3 ? 1 : 0;
+      std::unordered_multimap<std::uint64_t, unsigned int> grid;
+      grid.reserve(used.size());
+      for (const unsigned int n : used)
+        {
+          const long long i = cell_of(nodes[n], 0), j = cell_of(nodes[n], 1),
+                          k = cell_of(nodes[n], 2);
+          for (long long di = -1; di <= 1; ++di)
+            for (long long dj = -1; dj <= 1; ++dj)
+              for (long long dk = -reach; dk <= reach; ++dk)
                 {
-                  const auto range = grid.equal_range(key(i + di, j + dj));
+                  const auto range =
+                    grid.equal_range(key(i + di, j + dj, k + dk));
                   for (auto p = range.first; p != range.second; ++p)
                     {
-                      const Node &other = nodes[p->second];
-                      if (std::hypot(nodes[n].x[0] - other.x[0],
-                                     nodes[n].x[1] - other.x[1]) <= tolerance)
+                      const Node  &other = nodes[p->second];
+                      const double distance =
+                        std::hypot(nodes[n].x[0] - other.x[0],
+                                   nodes[n].x[1] - other.x[1],
+                                   dim == 3 ? nodes[n].x[2] - other.x[2] : 0.);
+                      if (distance <= tolerance)
                         reject_at(nodes[n].line,
                                   "nodes " + std::to_string(other.tag) +
                                     " and " + std::to_string(nodes[n].tag) +
                                     " are at the same point " +
-                                    coordinates(nodes[n].x) +
+                                    coordinates(nodes[n].x, dim) +
                                     ": the mesh would have a crack or a "
-                                    "collapsed triangle there; merge them");
+                                    "collapsed cell there; merge them");
                     }
                 }
-            grid.emplace(key(i, j), n);
+          grid.emplace(key(i, j, k), n);
+        }
+    }
+
+
+
+    template <typename FaceMap>
+    void
+    GmshParser::check_one_body(const FaceMap &faces) const
+    {
+      UnionFind parts(cells.size());
+      for (const auto &face : faces)
+        if (face.second.side[0] >= 0 && face.second.side[1] >= 0)
+          parts.join(face.second.side[0], face.second.side[1]);
+      unsigned int n_parts = 0, second = 0;
+      for (unsigned int c = 0; c < parts.size(); ++c)
+        if (parts.root(c) == c)
+          ++n_parts;
+      if (n_parts < 2)
+        return;
+      for (unsigned int c = 0; c < parts.size(); ++c)
+        if (parts.root(c) != parts.root(0))
+          {
+            second = c;
+            break;
           }
-      }
+      std::array<double, 3> centre = {{0, 0, 0}};
+      for (unsigned int k = 0; k <= dim; ++k)
+        for (unsigned int d = 0; d < dim; ++d)
+          centre[d] += nodes[cells[second].nodes[k]].x[d] / (dim + 1);
+      throw InputError("<" + path + "> has " + std::to_string(n_parts) +
+                       " separate parts (one body is modelled); part 2 "
+                       "contains the " +
+                       (dim == 2 ? "triangle " : "tetrahedron ") +
+                       std::to_string(cells[second].tag) + " at " +
+                       coordinates(centre, dim));
+    }
+
+
+
+    GmshMesh<2>
+    GmshParser::check_triangles() const
+    {
+      std::vector<unsigned int> vertex, used;
+      std::array<double, 3>     low, high;
+      double                    diameter;
+      check_nodes(vertex, used, low, high, diameter);
+      const double                tolerance = distance_tolerance * diameter;
+      const std::vector<Element> &triangles = cells;
+      const std::vector<Element> &lines     = faces;
 
       // Triangles of (nearly) zero area, and the orientation of the others.
-      GmshTriangleMesh  mesh;
+      GmshMesh<2>       mesh;
       std::vector<bool> clockwise(triangles.size());
       for (unsigned int t = 0; t < triangles.size(); ++t)
         {
@@ -1201,43 +1360,7 @@ namespace Signorini
           }
       }
 
-      // One body: the triangles must be connected through shared edges
-      // (union-find); a second part would float free in the solver.
-      {
-        std::vector<unsigned int> parent(triangles.size());
-        for (unsigned int t = 0; t < triangles.size(); ++t)
-          parent[t] = t;
-        const auto root = [&](unsigned int t) {
-          while (parent[t] != t)
-            t = parent[t] = parent[parent[t]];
-          return t;
-        };
-        for (const auto &edge : edges)
-          if (edge.second.side[0] >= 0 && edge.second.side[1] >= 0)
-            parent[root(edge.second.side[0])] = root(edge.second.side[1]);
-        unsigned int n_parts = 0, second = 0;
-        for (unsigned int t = 0; t < triangles.size(); ++t)
-          if (root(t) == t)
-            ++n_parts;
-        for (unsigned int t = 0; t < triangles.size(); ++t)
-          if (root(t) != root(0))
-            {
-              second = t;
-              break;
-            }
-        if (n_parts > 1)
-          {
-            std::array<double, 3> centre = {{0, 0, 0}};
-            for (const unsigned int n : triangles[second].nodes)
-              for (unsigned int d = 0; d < 2; ++d)
-                centre[d] += nodes[n].x[d] / 3;
-            throw InputError("<" + path + "> has " + std::to_string(n_parts) +
-                             " separate parts (one body is modelled); part 2 "
-                             "contains the triangle " +
-                             std::to_string(triangles[second].tag) + " at " +
-                             coordinates(centre));
-          }
-      }
+      check_one_body(edges);
 
       // Line elements: a physical tag is a boundary id, so it must be on a
       // boundary edge (deal.II refuses ids on interior faces, and a line
@@ -1248,6 +1371,7 @@ namespace Signorini
           if (l.physical == 0)
             continue; // no id: nothing to pass on
           const unsigned int a = l.nodes[0], b = l.nodes[1];
+          const unsigned int unused = static_cast<unsigned int>(-1);
           const auto         p = (vertex[a] == unused || vertex[b] == unused) ?
                                    edges.end() :
                                    edges.find(edge_key(a, b));
@@ -1298,11 +1422,324 @@ namespace Signorini
         }
       return mesh;
     }
+
+
+
+    /// A hash of three vertex indices.
+    struct TripleHash
+    {
+      std::size_t
+      operator()(const std::array<unsigned int, 3> &v) const
+      {
+        return ((static_cast<std::uint64_t>(v[0]) * 0x9E3779B97F4A7C15ULL) ^
+                (static_cast<std::uint64_t>(v[1]) * 0xC2B2AE3D27D4EB4FULL) ^
+                v[2]);
+      }
+    };
+
+
+
+    GmshMesh<3>
+    GmshParser::check_tetrahedra() const
+    {
+      std::vector<unsigned int> vertex, used;
+      std::array<double, 3>     low, high;
+      double                    diameter;
+      check_nodes(vertex, used, low, high, diameter);
+      const double tolerance = distance_tolerance * diameter;
+      const auto   node_list = [&](const Element     &element,
+                                 const unsigned int n_nodes) {
+        std::string text;
+        for (unsigned int k = 0; k < n_nodes; ++k)
+          text += (k > 0 ? ", " : " ") +
+                  std::to_string(nodes[element.nodes[k]].tag) + " " +
+                  coordinates(nodes[element.nodes[k]].x, 3);
+        return text;
+      };
+
+      // Tetrahedra of (nearly) zero volume; the others are oriented as
+      // deal.II's reference tetrahedron (positive volume), by swapping two
+      // nodes where the file has them the other way round.
+      std::vector<std::array<unsigned int, 4>> tetrahedra(cells.size());
+      for (unsigned int t = 0; t < cells.size(); ++t)
+        {
+          const Element &tetrahedron = cells[t];
+          // the edges, in units of the diameter, so that nothing overflows
+          const auto edge = [&](const unsigned int a, const unsigned int b) {
+            Tensor<1, 3> e;
+            for (unsigned int d = 0; d < 3; ++d)
+              e[d] = (nodes[tetrahedron.nodes[b]].x[d] -
+                      nodes[tetrahedron.nodes[a]].x[d]) /
+                     diameter;
+            return e;
+          };
+          const double six_volume =
+            edge(0, 1) * cross_product_3d(edge(0, 2), edge(0, 3));
+          double longest = 0;
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int b = a + 1; b < 4; ++b)
+              longest = std::max(longest, edge(a, b).norm());
+          if (std::abs(six_volume) <= 6 * volume_tolerance ||
+              std::abs(six_volume) <=
+                distance_tolerance * longest * longest * longest)
+            {
+              std::ostringstream message;
+              const double       volume = std::abs(six_volume) / 6;
+              message << "tetrahedron " << tetrahedron.tag;
+              if (volume == 0.)
+                message << " has zero volume";
+              else
+                message << " has nearly zero volume "
+                        << volume * diameter * diameter * diameter;
+              message << ": its nodes" << node_list(tetrahedron, 4) << " are "
+                      << (volume == 0. ? "" : "nearly ") << "coplanar";
+              reject_at(tetrahedron.line, message.str());
+            }
+          for (unsigned int k = 0; k < 4; ++k)
+            tetrahedra[t][k] = vertex[tetrahedron.nodes[k]];
+          if (six_volume < 0)
+            std::swap(tetrahedra[t][1], tetrahedra[t][2]);
+        }
+
+      // Each face borders at most two tetrahedra, one on each side:
+      // otherwise they overlap. The side is the parity of the permutation
+      // that sorts the face's vertices in its outward order.
+      struct FaceCells
+      {
+        // tetrahedron (index) on each side, -1 if none
+        std::array<int, 2> side = {{-1, -1}};
+      };
+      std::unordered_map<std::array<unsigned int, 3>, FaceCells, TripleHash>
+        faces_of_cells;
+      faces_of_cells.reserve(2 * cells.size() + 16);
+      // the faces of a positively oriented tetrahedron, normals outward
+      const unsigned int outward[4][3] = {{1, 2, 3},
+                                          {0, 3, 2},
+                                          {0, 1, 3},
+                                          {0, 2, 1}};
+      for (unsigned int t = 0; t < cells.size(); ++t)
+        for (const auto &f : outward)
+          {
+            std::array<unsigned int, 3> v = {
+              {tetrahedra[t][f[0]], tetrahedra[t][f[1]], tetrahedra[t][f[2]]}};
+            unsigned int swaps = 0;
+            for (unsigned int i = 0; i < 2; ++i)
+              for (unsigned int j = 0; j + 1 < 3 - i; ++j)
+                if (v[j] > v[j + 1])
+                  {
+                    std::swap(v[j], v[j + 1]);
+                    ++swaps;
+                  }
+            const unsigned int side = swaps % 2;
+            FaceCells         &face = faces_of_cells[v];
+            if (face.side[side] >= 0)
+              reject_at(cells[t].line,
+                        "tetrahedra " +
+                          std::to_string(cells[face.side[side]].tag) + " and " +
+                          std::to_string(cells[t].tag) +
+                          " overlap: they lie on the same side of their face "
+                          "between nodes " +
+                          std::to_string(nodes[used[v[0]]].tag) + ", " +
+                          std::to_string(nodes[used[v[1]]].tag) + " and " +
+                          std::to_string(nodes[used[v[2]]].tag) +
+                          " (a repeated or folded tetrahedron, or a volume "
+                          "in two physical groups?)");
+            face.side[side] = t;
+          }
+
+      // Hanging nodes: a node on a boundary face (one tetrahedron only)
+      // without being one of its corners makes the mesh non-conforming (a
+      // crack the solver would not see). The boundary faces go into hash
+      // grids, one per size class (cells of 2^l times the shortest face
+      // size, a face in the class of its longest edge: a graded mesh puts
+      // few faces into any cell), and each node is compared with the faces
+      // of its neighbourhood in every class.
+      {
+        const auto point = [&](const unsigned int v) {
+          const auto &x = nodes[used[v]].x;
+          return Point<3>(x[0], x[1], x[2]);
+        };
+        std::vector<std::array<unsigned int, 3>> boundary_faces;
+        std::vector<double>                      face_size;
+        for (const auto &[key, face] : faces_of_cells)
+          if (face.side[0] < 0 || face.side[1] < 0)
+            {
+              double longest = 0;
+              for (unsigned int k = 0; k < 3; ++k)
+                longest =
+                  std::max(longest,
+                           point(key[k]).distance(point(key[(k + 1) % 3])));
+              boundary_faces.push_back(key);
+              face_size.push_back(longest);
+            }
+        const double smallest =
+          *std::min_element(face_size.begin(), face_size.end());
+        const auto cell_of =
+          [&](const double x, const unsigned int d, const double cell_size) {
+            return static_cast<long long>(std::floor((x - low[d]) / cell_size));
+          };
+        const auto key = [](const int       level,
+                            const long long i,
+                            const long long j,
+                            const long long k) {
+          return ((static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
+                   static_cast<std::uint64_t>(j)) *
+                    0xC2B2AE3D27D4EB4FULL ^
+                  static_cast<std::uint64_t>(k)) *
+                   0x165667B19E3779F9ULL ^
+                 static_cast<std::uint64_t>(level);
+        };
+        std::unordered_multimap<std::uint64_t, unsigned int> grid;
+        int                                                  n_levels = 0;
+        for (unsigned int f = 0; f < boundary_faces.size(); ++f)
+          {
+            const int level =
+              std::max(0,
+                       static_cast<int>(std::ceil(
+                         std::log2(face_size[f] / smallest) - 1e-12)));
+            n_levels               = std::max(n_levels, level + 1);
+            const double cell_size = smallest * std::ldexp(1., level);
+            std::array<long long, 3> first, last;
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                double a = point(boundary_faces[f][0])[d], b = a;
+                for (unsigned int k = 1; k < 3; ++k)
+                  {
+                    a = std::min(a, point(boundary_faces[f][k])[d]);
+                    b = std::max(b, point(boundary_faces[f][k])[d]);
+                  }
+                first[d] = cell_of(a, d, cell_size);
+                last[d]  = cell_of(b, d, cell_size);
+              }
+            for (long long i = first[0]; i <= last[0]; ++i)
+              for (long long j = first[1]; j <= last[1]; ++j)
+                for (long long k = first[2]; k <= last[2]; ++k)
+                  grid.emplace(key(level, i, j, k), f);
+          }
+        for (unsigned int v = 0; v < used.size(); ++v)
+          for (int level = 0; level < n_levels; ++level)
+            {
+              const double    cell_size = smallest * std::ldexp(1., level);
+              const Point<3>  p         = point(v);
+              const long long i         = cell_of(p[0], 0, cell_size),
+                              j         = cell_of(p[1], 1, cell_size),
+                              k         = cell_of(p[2], 2, cell_size);
+              for (long long di = -1; di <= 1; ++di)
+                for (long long dj = -1; dj <= 1; ++dj)
+                  for (long long dk = -1; dk <= 1; ++dk)
+                    {
+                      const auto range =
+                        grid.equal_range(key(level, i + di, j + dj, k + dk));
+                      for (auto q = range.first; q != range.second; ++q)
+                        {
+                          const auto &face = boundary_faces[q->second];
+                          if (face[0] == v || face[1] == v || face[2] == v)
+                            continue;
+                          const Point<3>     a      = point(face[0]);
+                          const Tensor<1, 3> ab     = point(face[1]) - a,
+                                             ac     = point(face[2]) - a,
+                                             ap     = p - a;
+                          const Tensor<1, 3> normal = cross_product_3d(ab, ac);
+                          const double       n2     = normal.norm_square();
+                          // barycentric coordinates of p's projection
+                          const double l1 =
+                                         cross_product_3d(ap, ac) * normal / n2,
+                                       l2 =
+                                         cross_product_3d(ab, ap) * normal / n2;
+                          const double distance =
+                            std::abs(ap * normal) / std::sqrt(n2);
+                          if (distance <= tolerance &&
+                              l1 >= -distance_tolerance &&
+                              l2 >= -distance_tolerance &&
+                              l1 + l2 <= 1 + distance_tolerance)
+                            reject_at(
+                              nodes[used[v]].line,
+                              "node " + std::to_string(nodes[used[v]].tag) +
+                                " " + coordinates(nodes[used[v]].x, 3) +
+                                " lies on the boundary face between nodes " +
+                                std::to_string(nodes[used[face[0]]].tag) +
+                                ", " +
+                                std::to_string(nodes[used[face[1]]].tag) +
+                                " and " +
+                                std::to_string(nodes[used[face[2]]].tag) +
+                                " without being a corner of its tetrahedron "
+                                "(a hanging node): the mesh is not "
+                                "conforming there");
+                        }
+                    }
+            }
+      }
+
+      check_one_body(faces_of_cells);
+
+      // Triangle elements: a physical tag is a boundary id, so it must be
+      // on a boundary face (deal.II refuses ids on interior faces, and a
+      // triangle away from the tetrahedra would silently lose its id).
+      GmshMesh<3>                                            mesh;
+      std::map<std::array<unsigned int, 3>, const Element *> tagged_faces;
+      const unsigned int unused = static_cast<unsigned int>(-1);
+      for (const Element &triangle : faces)
+        {
+          if (triangle.physical == 0)
+            continue; // no id: nothing to pass on
+          std::array<unsigned int, 3> v;
+          for (unsigned int k = 0; k < 3; ++k)
+            v[k] = vertex[triangle.nodes[k]];
+          std::sort(v.begin(), v.end());
+          const auto p =
+            v[2] == unused ? faces_of_cells.end() : faces_of_cells.find(v);
+          const std::string name =
+            "triangle element " + std::to_string(triangle.tag) +
+            " (physical tag " + std::to_string(triangle.physical) + ", nodes" +
+            node_list(triangle, 3) + ")";
+          if (p == faces_of_cells.end())
+            reject_at(triangle.line,
+                      name + " is not a face of any tetrahedron, so its "
+                             "boundary id would be lost");
+          if (p->second.side[0] >= 0 && p->second.side[1] >= 0)
+            reject_at(triangle.line,
+                      name + " lies inside the mesh, between tetrahedra " +
+                        std::to_string(cells[p->second.side[0]].tag) + " and " +
+                        std::to_string(cells[p->second.side[1]].tag) +
+                        ": only boundary faces take a boundary id");
+          const auto other = tagged_faces.emplace(v, &triangle);
+          if (!other.second)
+            {
+              if (other.first->second->physical != triangle.physical)
+                reject_at(triangle.line,
+                          name + " and triangle element " +
+                            std::to_string(other.first->second->tag) +
+                            " (physical tag " +
+                            std::to_string(other.first->second->physical) +
+                            ") are the same face with two boundary ids (a "
+                            "surface in two physical groups?)");
+              continue;
+            }
+          CellData<2> face(3);
+          for (unsigned int k = 0; k < 3; ++k)
+            face.vertices[k] = vertex[triangle.nodes[k]];
+          face.boundary_id = static_cast<types::boundary_id>(triangle.physical);
+          mesh.boundary.boundary_quads.push_back(face);
+        }
+
+      for (const unsigned int n : used)
+        mesh.vertices.emplace_back(nodes[n].x[0], nodes[n].x[1], nodes[n].x[2]);
+      for (unsigned int t = 0; t < cells.size(); ++t)
+        {
+          CellData<3> cell(4);
+          for (unsigned int k = 0; k < 4; ++k)
+            cell.vertices[k] = tetrahedra[t][k];
+          cell.material_id = static_cast<types::material_id>(cells[t].physical);
+          mesh.cells.push_back(cell);
+        }
+      return mesh;
+    }
   } // namespace
 
 
 
-  GmshTriangleMesh
+  template <int dim>
+  GmshMesh<dim>
   read_gmsh_file(const std::string &path)
   {
     std::error_code                    error;
@@ -1323,11 +1760,33 @@ namespace Signorini
                            std::istreambuf_iterator<char>());
     if (in.bad())
       throw InputError("cannot read mesh file <" + path + ">");
+    return read_gmsh_text<dim>(path, text);
+  }
+
+
+
+  template <int dim>
+  GmshMesh<dim>
+  read_gmsh_text(const std::string &name, const std::string &text)
+  {
     // a UTF-8 byte order mark, which some editors write, is not content
     const std::string bom = "\xEF\xBB\xBF";
     const std::string content =
       text.compare(0, 3, bom) == 0 ? text.substr(3) : text;
-    GmshParser parser(path, content);
-    return parser.parse();
+    GmshParser parser(name, content, dim);
+    parser.parse();
+    if constexpr (dim == 2)
+      return parser.check_triangles();
+    else
+      return parser.check_tetrahedra();
   }
+
+  template GmshMesh<2>
+  read_gmsh_file<2>(const std::string &path);
+  template GmshMesh<3>
+  read_gmsh_file<3>(const std::string &path);
+  template GmshMesh<2>
+  read_gmsh_text<2>(const std::string &name, const std::string &text);
+  template GmshMesh<3>
+  read_gmsh_text<3>(const std::string &name, const std::string &text);
 } // namespace Signorini

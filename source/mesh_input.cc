@@ -2,6 +2,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <signorini/gmsh_file_check.h>
+#include <signorini/gmsh_geometry.h>
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
 #include <signorini/registry.h>
@@ -42,10 +43,15 @@ namespace Signorini
       prm.declare_entry("File name",
                         "",
                         Patterns::Anything(),
-                        "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles; "
-                        "physical curve tags are boundary ids (do not use "
-                        "0); a relative path is taken from the directory of "
-                        "the parameter file.");
+                        dim == 2 ?
+                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles; "
+                          "physical curve tags are boundary ids (do not use "
+                          "0); a relative path is taken from the directory "
+                          "of the parameter file." :
+                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of tetrahedra; "
+                          "physical surface tags are boundary ids (do not "
+                          "use 0); a relative path is taken from the "
+                          "directory of the parameter file.");
       prm.declare_entry("Geometry file",
                         "",
                         Patterns::Anything(),
@@ -92,11 +98,9 @@ namespace Signorini
       initial_refinements = prm.get_integer("Initial refinements");
     }
     prm.leave_subsection();
+    file_mesh_read.reset();
     if (source == Source::file && file_name.empty())
       throw InputError("Mesh/File name is empty but Mesh/Source = file");
-    if (dim != 2 && source == Source::file)
-      throw InputError("Mesh/Source = file: the Gmsh reader (strictly "
-                       "checked triangles) is implemented in 2D only");
   }
 
 
@@ -256,6 +260,54 @@ namespace Signorini
 
 
   template <int dim>
+  const GmshMesh<dim> &
+  MeshInput<dim>::file_mesh() const
+  {
+    if (!file_mesh_read)
+      {
+        // The file is checked by a strict parser first: deal.II's reader
+        // trusts it and crashes, hangs or allocates without bound on a
+        // corrupted one, and it would accept degenerate cells and nodes at
+        // the same point, which only fail in the solver.
+        const std::string path = path_of(file_name);
+        auto              mesh = std::make_shared<GmshMesh<dim>>();
+        try
+          {
+            // a geometry is meshed by Gmsh first, with its own sizes
+            const bool geometry =
+              path.size() > 4 && path.compare(path.size() - 4, 4, ".geo") == 0;
+            *mesh = geometry ?
+                      read_gmsh_text<dim>(path + " as meshed by Gmsh",
+                                          mesh_geometry_file(path, dim)) :
+                      read_gmsh_file<dim>(path);
+          }
+        catch (const InputError &exc)
+          {
+            throw InputError(std::string("Mesh/File name: ") + exc.what());
+          }
+        // as GridIn::read_msh() does: clockwise triangles are turned
+        if constexpr (dim == 2)
+          GridTools::invert_cells_with_negative_measure(mesh->vertices,
+                                                        mesh->cells);
+        file_mesh_read = mesh;
+      }
+    return *file_mesh_read;
+  }
+
+
+
+  template <int dim>
+  double
+  MeshInput<dim>::n_coarse_cells() const
+  {
+    return source == Source::block ?
+             n_block_cells() :
+             static_cast<double>(file_mesh().cells.size());
+  }
+
+
+
+  template <int dim>
   void
   MeshInput<dim>::create(Triangulation<dim> &triangulation) const
   {
@@ -284,41 +336,21 @@ namespace Signorini
       }
     else
       {
-        const std::string path = path_of(file_name);
-        if constexpr (dim == 2)
+        const GmshMesh<dim> &mesh = file_mesh();
+        const std::string    path = path_of(file_name);
+        try
           {
-            // The file is checked by a strict parser first: deal.II's reader
-            // trusts it and crashes, hangs or allocates without bound on a
-            // corrupted one, and it would accept degenerate triangles and
-            // nodes at the same point, which only fail in the solver.
-            GmshTriangleMesh mesh;
-            try
-              {
-                mesh = read_gmsh_file(path);
-              }
-            catch (const InputError &exc)
-              {
-                throw InputError(std::string("Mesh/File name: ") + exc.what());
-              }
-            // as GridIn::read_msh() does: clockwise triangles are turned
-            GridTools::invert_cells_with_negative_measure(mesh.vertices,
-                                                          mesh.cells);
-            try
-              {
-                triangulation.create_triangulation(mesh.vertices,
-                                                   mesh.cells,
-                                                   mesh.boundary);
-              }
-            catch (const ExceptionBase &exc)
-              {
-                std::ostringstream text;
-                exc.print_info(text);
-                throw InputError("Mesh/File name: cannot build a mesh from <" +
-                                 path + ">: " + one_line_message(text.str()));
-              }
+            triangulation.create_triangulation(mesh.vertices,
+                                               mesh.cells,
+                                               mesh.boundary);
           }
-        else
-          throw InputError("Mesh/Source = file is only implemented in 2D");
+        catch (const ExceptionBase &exc)
+          {
+            std::ostringstream text;
+            exc.print_info(text);
+            throw InputError("Mesh/File name: cannot build a mesh from <" +
+                             path + ">: " + one_line_message(text.str()));
+          }
       }
     triangulation.refine_global(initial_refinements);
   }

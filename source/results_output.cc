@@ -412,6 +412,7 @@ namespace Signorini
     const std::vector<bool> &active = computation.active_set();
     if (!pcout.is_active())
       return;
+    const Vector<double> pressures = contact_boundary.nodal_pressures(forces);
 
     output_files.write("contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
                        [&](std::ostream &out) {
@@ -420,7 +421,7 @@ namespace Signorini
                            out << coordinates[d] << ',';
                          out
                            << "multiplier_node,normal_displacement,gap,Lambda,"
-                              "nodal_force,active\n"
+                              "nodal_force,active,nodal_pressure\n"
                            << std::setprecision(12);
                          for (const unsigned int k : order)
                            {
@@ -432,7 +433,8 @@ namespace Signorini
                                  << contact_boundary.nodal_gap()[k] << ','
                                  << (i >= 0 ? lambda[i] : 0.) << ','
                                  << forces[k] << ','
-                                 << ((i >= 0 && active[i]) ? 1 : 0) << '\n';
+                                 << ((i >= 0 && active[i]) ? 1 : 0) << ','
+                                 << pressures[k] << '\n';
                            }
                        });
   }
@@ -473,6 +475,7 @@ namespace Signorini
 
     // contact fields as P1 functions that vanish away from GC
     Vector<double> pressure(scalar_dof_handler.n_dofs());
+    Vector<double> nodal_pressure(scalar_dof_handler.n_dofs());
     Vector<double> active(scalar_dof_handler.n_dofs());
     {
       const ContactBoundary<dim> &contact_boundary =
@@ -491,6 +494,12 @@ namespace Signorini
           pressure[dof] = -lambda[i];
           active[dof]   = computation.active_set()[i] ? 1. : 0.;
         }
+      const Vector<double> pressures = contact_boundary.nodal_pressures(
+        computation.condition().nodal_forces(computation.dual()));
+      for (unsigned int k = 0; k < contact_boundary.n_nodes(); ++k)
+        if (dof_of_vertex.count(contact_boundary.node(k).vertex) > 0)
+          nodal_pressure[dof_of_vertex[contact_boundary.node(k).vertex]] =
+            pressures[k];
     }
 
     const StressPostprocessor<dim> stress(computation.material());
@@ -506,6 +515,9 @@ namespace Signorini
                              vector_part);
     data_out.add_data_vector(dof_handler, ghosted, stress);
     data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
+    data_out.add_data_vector(scalar_dof_handler,
+                             nodal_pressure,
+                             "nodal_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
     std::unique_ptr<CellDataPostprocessor<dim>> eps_E_field;
     if (eps_E != nullptr)

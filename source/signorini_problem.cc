@@ -130,8 +130,9 @@ namespace Signorini
   SignoriniProblem<dim>::check_mesh_sizes() const
   {
     // The block's cells are counted without building it; a file's coarse
-    // mesh is bounded by the file size, so it is built. Every uniform
-    // refinement multiplies the cells by 2^dim.
+    // mesh is bounded by the file size, so it is read (once: creating the
+    // mesh reuses it). Every uniform refinement multiplies the cells by
+    // 2^dim.
     const std::string limit =
       ", more than Maximum cells = " + cell_count(max_cells);
     double n_coarse = 0;
@@ -145,13 +146,7 @@ namespace Signorini
             (dim == 2 ? " triangles" : " tetrahedra") + limit);
       }
     else
-      {
-        MeshInput<dim> coarse_input      = mesh_input;
-        coarse_input.initial_refinements = 0;
-        Triangulation<dim> coarse;
-        coarse_input.create(coarse);
-        n_coarse = coarse.n_active_cells();
-      }
+      n_coarse = mesh_input.n_coarse_cells();
     const auto cells = [&](const unsigned int levels) {
       return n_coarse * std::pow(2., dim * levels);
     };

@@ -57,9 +57,6 @@ printf 'not a mesh\n' > "$work/garbage.msh"
 printf 'set Dimension = 3\nset Output directory = %s/out\n' "$work" > "$work/dim3.prm"
 check "Dimension = 3" "Dimension = 3: Error estimator/Stress reconstruction = element equilibration is implemented in 2D only" \
   "$work/dim3.prm"
-printf 'set Dimension = 3\nset Output directory = %s/out\nsubsection Mesh\n  set Source = file\n  set File name = x.msh\nend\n' "$work" > "$work/dim3-file.prm"
-check "Dimension = 3, Gmsh file" "Dimension = 3: Mesh/Source = file: the Gmsh reader (strictly checked triangles) is implemented in 2D only" \
-  "$work/dim3-file.prm"
 printf 'set Dimension = 3\nset Output directory = %s/out\nsubsection Mesh\n  set Block subdivisions = 4, 3\nend\n' "$work" > "$work/dim3-subdivisions.prm"
 check "Dimension = 3, two subdivisions" "Dimension = 3: parameter file .*: line 4: Mesh/Block subdivisions: The entry value 4, 3" \
   "$work/dim3-subdivisions.prm"
@@ -89,6 +86,10 @@ remeshing_case "missing geometry file" "Mesh/Geometry file: cannot open" \
 printf 'this is not a geometry\n' > "$work/garbage.geo"
 remeshing_case "unreadable geometry file" \
   "Mesh/Geometry file: .*syntax error" "$square" "$work/garbage.geo"
+# Gmsh's Exit command ends the program: an error, not a silent success
+printf 'Point(1) = {0, 0, 0};\nExit;\n' > "$work/exit.geo"
+remeshing_case "geometry file that calls Exit" \
+  "Mesh/Geometry file <$work/exit.geo>: Gmsh ended the program" "$square" "$work/exit.geo"
 sed 's/Physical Curve(2) = {1};/Physical Curve(7) = {1};/' \
   "$src/tests/meshes/hertz-geometry.geo" > "$work/retagged.geo"
 remeshing_case "geometry without a boundary id in use" \
@@ -295,7 +296,7 @@ mesh_case "curve in two physical groups" "curve 1 belongs to 2 physical groups" 
 sed 's/^9 2 2 1 1 5 6 11$/9 3 2 1 1 5 6 11 12/' "$msh22" > "$work/quad.msh"
 mesh_case "quadrilateral" "line 29: quadrilateral elements (type 3) are not supported" "$work/quad.msh"
 sed 's/^9 2 2 1 1 5 6 11$/9 4 2 1 1 5 6 11 12/' "$msh22" > "$work/tet.msh"
-mesh_case "tetrahedron" "3D elements (type 4) are not supported" "$work/tet.msh"
+mesh_case "tetrahedron in 2D" "tetrahedra (type 4) are 3D elements: signorini reads them with Dimension = 3" "$work/tet.msh"
 sed 's/^9 2 2 1 1 5 6 11$/9 9 2 1 1 5 6 11 1 2 3/' "$msh22" > "$work/tri6.msh"
 mesh_case "6-node triangle" "high-order elements (type 9)" "$work/tri6.msh"
 sed '/^[0-9]* 2 2 1 1 /d; s/^22$/8/' "$msh22" > "$work/lines.msh"
@@ -1052,6 +1053,80 @@ case_prm_exit 2 "Frank-Wolfe stopped early" \
   end
 end"
 
+# --- 3D meshes: tetrahedra read with Dimension = 3 ---
+
+# tests/meshes/cube.msh (from cube.geo): the unit cube in 100 tetrahedra,
+# boundary ids 1 (x = 0), 2 (z = 0), 3 (z = 1); valid, then corrupted one way
+# each. cube_prm FILE: a 3D case clamped on 1, loaded on 3, contact on 2.
+cube=$src/tests/meshes/cube.msh
+cube_prm() {
+  printf 'set Dimension = 3\nset Output directory = %s/out\n' "$work"
+  printf 'subsection Mesh\n  set Source = file\n  set File name = %s\nend\n' "$1"
+  printf 'subsection Boundary conditions\n  subsection Dirichlet 1\n    set Boundary ids = 1\n'
+  printf '    set Function expression = 0; 0; 0\n  end\n  subsection Traction 1\n'
+  printf '    set Boundary ids = 3\n    set Function expression = 0; 0; -0.01\n  end\nend\n'
+  printf 'subsection Contact\n  set Boundary ids = 2\n  set Direction = 0, 0, -1\n'
+  printf '  subsection Gap\n    set Function expression = 0.001\n  end\nend\n'
+  printf 'subsection Error estimator\n  set Enable = false\nend\n'
+}
+# cube_case NAME EXPECTED FILE: reading FILE in 3D is an input error
+cube_case() {
+  cube_prm "$3" > "$work/cube.prm"
+  check "$1" "$2" "$work/cube.prm"
+}
+cube_prm "$cube" > "$work/cube.prm"
+valid_prm "3D mesh" --validate "$work/cube.prm"
+# tetrahedra in the other orientation are turned, as in 2D
+awk '$2 == 4 && NF == 9 { t = $8; $8 = $9; $9 = t } { print }' "$cube" > "$work/cube-turned.msh"
+cube_prm "$work/cube-turned.msh" > "$work/cube.prm"
+valid_prm "3D mesh, tetrahedra turned" --validate "$work/cube.prm"
+# add_elements FILE N LINES...: the cube with N more elements (LINES)
+add_elements() {
+  local out=$1 n=$2
+  shift 2
+  sed "s/^142\$/$((142 + n))/" "$cube" | sed '/^\$EndElements$/,$d' > "$out"
+  printf '%s\n' "$@" '$EndElements' >> "$out"
+}
+add_elements "$work/cube-twice.msh" 1 "1000 4 2 1 1 24 32 23 45"
+cube_case "3D: repeated tetrahedron" \
+  "line 196: tetrahedra 43 and 1000 overlap: they lie on the same side of their face" "$work/cube-twice.msh"
+add_elements "$work/cube-flat.msh" 1 "1000 4 2 1 1 1 2 3 4"
+cube_case "3D: zero-volume tetrahedron" \
+  "tetrahedron 1000 has zero volume: its nodes 1 (0, 0, 0), 2 (1, 0, 0), 3 (1, 1, 0), 4 (0, 1, 0) are coplanar" \
+  "$work/cube-flat.msh"
+add_elements "$work/cube-hanging.msh" 1 "1000 4 2 1 1 46 1 9 47"
+sed -i 's/^45$/47/; s/^\$EndNodes$/46 0.2916666666666667 0.125 0\n47 0.2916666666666667 0.125 -0.3\n$EndNodes/' \
+  "$work/cube-hanging.msh"
+cube_case "3D: hanging node on a boundary face" \
+  "node 46 (0.291667, 0.125, 0) lies on the boundary face between nodes 1, 9 and 22 without being a corner of its tetrahedron (a hanging node)" \
+  "$work/cube-hanging.msh"
+add_elements "$work/cube-two.msh" 1 "1000 4 2 1 1 46 47 48 49"
+sed -i 's/^45$/49/; s/^\$EndNodes$/46 5 5 5\n47 6 5 5\n48 5 6 5\n49 5 5 6\n$EndNodes/' "$work/cube-two.msh"
+cube_case "3D: two bodies" \
+  "cube-two.msh> has 2 separate parts (one body is modelled); part 2 contains the tetrahedron 1000 at (5.25, 5.25, 5.25)" \
+  "$work/cube-two.msh"
+add_elements "$work/cube-inner.msh" 1 "1000 2 2 5 5 24 32 45"
+cube_case "3D: boundary id inside the body" \
+  "triangle element 1000 (physical tag 5, nodes 24 .*) lies inside the mesh, between tetrahedra" "$work/cube-inner.msh"
+add_elements "$work/cube-stray.msh" 1 "1000 2 2 5 5 1 7 45"
+cube_case "3D: boundary id on no face" "triangle element 1000 .* is not a face of any tetrahedron" \
+  "$work/cube-stray.msh"
+add_elements "$work/cube-hex.msh" 1 "1000 5 2 1 1 1 2 3 4 5 6 7 8"
+cube_case "3D: hexahedron" \
+  "line 196: hexahedra, prisms and pyramids (type 5) are not supported: signorini needs a mesh of 4-node tetrahedra" \
+  "$work/cube-hex.msh"
+cube_case "3D: a 2D mesh" \
+  "square-22.msh> contains no tetrahedra (Gmsh type 4): with Dimension = 3 signorini needs a 3D mesh" "$msh22"
+# a .geo is meshed by Gmsh first
+cube_case "3D: missing geometry" "Mesh/File name: cannot open geometry file <$work/none.geo>" "$work/none.geo"
+printf 'Point(1) = {0, 0, 0;\n' > "$work/broken.geo"
+cube_case "3D: geometry Gmsh cannot read" "Mesh/File name: geometry file <$work/broken.geo>: Gmsh failed" \
+  "$work/broken.geo"
+cube_case "3D: geometry of a square" "square.geo as meshed by Gmsh> contains no tetrahedra" \
+  "$src/tests/meshes/square.geo"
+cube_case "3D: geometry that calls Exit" \
+  "Mesh/File name: geometry file <$work/exit.geo>: Gmsh ended the program" "$work/exit.geo"
+
 # the documented defaults parse back; they name no support, so --validate
 # says what is missing (the defaults are a template, not a case)
 "$exe" --print-parameters > "$work/defaults.prm"
@@ -1066,7 +1141,8 @@ count=$((count + 1))
 if (exe=$(readlink -f "$exe") && src=$(readlink -f "$src") && cd "$work" &&
     "$exe" --validate "$src/tests/inputs/block.prm" > /dev/null &&
     "$exe" --validate "$src/tests/inputs/manufactured.prm" > /dev/null &&
-    "$exe" --validate "$src/tests/inputs/hertz.prm" > /dev/null); then
+    "$exe" --validate "$src/tests/inputs/hertz.prm" > /dev/null &&
+    "$exe" --validate "$src/tests/inputs/hertz-sphere.prm" > /dev/null); then
   echo "ok   --validate of the example copies"
 else
   echo "FAIL --validate of the example copies"

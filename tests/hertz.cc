@@ -23,16 +23,10 @@ namespace
   std::vector<ContactNode>
   read_contact_table(const std::string &filename)
   {
-    std::ifstream            in(filename);
-    std::string              line;
     std::vector<ContactNode> nodes;
-    std::getline(in, line); // header
-    while (std::getline(in, line))
-      {
-        const auto v = dealii::Utilities::split_string_list(line, ',');
-        // x,y,multiplier_node,normal_displacement,gap,Lambda,nodal_force,active
-        nodes.push_back({std::stod(v[0]), -std::stod(v[5]), v[7] == "1"});
-      }
+    for (auto &row : SignoriniTests::read_table(filename))
+      nodes.push_back(
+        {std::stod(row["x"]), -std::stod(row["Lambda"]), row["active"] == "1"});
     return nodes;
   }
 } // namespace

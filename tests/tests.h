@@ -51,14 +51,16 @@ namespace SignoriniTests
     return std::string(SOURCE_DIR) + "/inputs";
   }
 
-  /// Declare all parameters and read @p prm_file (from tests/inputs/) with
-  /// overrides; timing and VTU output off.
+  /// Declare all parameters (of the problem in @p dim dimensions) and read
+  /// @p prm_file (from tests/inputs/) with overrides; timing and VTU output
+  /// off.
+  template <int dim = 2>
   inline void
   read_parameters(ParameterHandler                         &prm,
                   const std::string                        &prm_file,
                   const std::map<std::string, std::string> &overrides)
   {
-    SignoriniProblem<2>::declare_parameters(prm);
+    SignoriniProblem<dim>::declare_parameters(prm);
     parse_parameter_file(prm, input_directory() + "/" + prm_file);
     set_entry(prm, "Output/Print timing", "false");
     set_entry(prm, "Output/Write vtu", "false");
@@ -67,8 +69,9 @@ namespace SignoriniTests
   }
 
   /// Run @p problem with its screen log swallowed (it is not compared).
+  template <int dim>
   inline void
-  run_quietly(SignoriniProblem<2> &problem)
+  run_quietly(SignoriniProblem<dim> &problem)
   {
     std::ostringstream screen;
     auto *const        old = std::cout.rdbuf(screen.rdbuf());
@@ -88,7 +91,8 @@ namespace SignoriniTests
   }
 
   /// Run @p prm_file (from tests/inputs/) with overrides, without the
-  /// estimator.
+  /// estimator, in @p dim dimensions.
+  template <int dim = 2>
   inline Result
   run(const std::string                        &prm_file,
       const std::map<std::string, std::string> &overrides)
@@ -96,8 +100,8 @@ namespace SignoriniTests
     ParameterHandler prm;
     auto             o = overrides;
     o.emplace("Error estimator/Enable", "false");
-    read_parameters(prm, prm_file, o);
-    SignoriniProblem<2> problem(prm, input_directory());
+    read_parameters<dim>(prm, prm_file, o);
+    SignoriniProblem<dim> problem(prm, input_directory());
     run_quietly(problem);
 
     Result result;
@@ -163,6 +167,29 @@ namespace SignoriniTests
                 << std::endl;
         ++failures;
       }
+  }
+
+  /// The rows of the CSV file @p filename (a contact-CC.csv), each as
+  /// column name -> value.
+  inline std::vector<std::map<std::string, std::string>>
+  read_table(const std::string &filename)
+  {
+    std::ifstream in(filename);
+    std::string   line;
+    std::getline(in, line);
+    const auto names = Utilities::split_string_list(line, ',');
+    std::vector<std::map<std::string, std::string>> rows;
+    while (std::getline(in, line))
+      {
+        const auto values = Utilities::split_string_list(line, ',');
+        AssertThrow(values.size() == names.size(),
+                    ExcMessage("a row of " + filename + " has " +
+                               std::to_string(values.size()) + " fields"));
+        rows.emplace_back();
+        for (unsigned int i = 0; i < names.size(); ++i)
+          rows.back()[names[i]] = values[i];
+      }
+    return rows;
   }
 } // namespace SignoriniTests
 

@@ -5,6 +5,7 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,19 +13,25 @@ namespace Signorini
 {
   using namespace dealii;
 
+  template <int dim>
+  struct GmshMesh;
+
   /**
    * Where the initial mesh comes from: the block of the paper's
    * section 7 generated in place, or an ASCII Gmsh file whose
    * physical curve tags become boundary ids (a relative file name is taken
    * from the directory of the parameter file).
    *
+   * A file is read (a .geo meshed by Gmsh first) and checked once; the
+   * copies of a MeshInput made afterwards share what was read.
+   *
    * Boundary ids of the generated block (0,1)^2:
    *   1 left edge x = 0, 2 bottom edge y = 0,
    *   3 top edge for x < 1/2, 5 top edge for x > 1/2,
    *   4 right edge for y > 1/2, 6 right edge for y < 1/2.
    * In 3D the block is extruded to (0,1)^3 in tetrahedra: the same ids on
-   * the faces x, y = const, and 7 on z = 0 and z = 1. The Gmsh reader is 2D
-   * only.
+   * the faces x, y = const, and 7 on z = 0 and z = 1. A Gmsh file holds
+   * triangles in 2D and tetrahedra in 3D (read_gmsh_file()).
    */
   template <int dim>
   class MeshInput
@@ -40,8 +47,7 @@ namespace Signorini
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read section Mesh. The Gmsh reader reads triangles: with dim = 3 and
-    /// Source = file this throws an InputError naming Mesh/Source.
+    /// Read section Mesh.
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -68,6 +74,11 @@ namespace Signorini
     double
     n_block_cells() const;
 
+    /// The number of cells of the initial mesh before its refinements: the
+    /// block's counted, a file's read (which create() then reuses).
+    double
+    n_coarse_cells() const;
+
     /// "4 x 3 rectangles" (2D), "4 x 3 x 1 rectangles x layers" (3D): for
     /// messages.
     std::string
@@ -80,6 +91,14 @@ namespace Signorini
     std::string               input_directory     = ".";
     std::vector<unsigned int> block_subdivisions  = {4, 3};
     unsigned int              initial_refinements = 0;
+
+  private:
+    /// The mesh of file_name, read and checked at the first call.
+    const GmshMesh<dim> &
+    file_mesh() const;
+
+    /// What file_mesh() read (shared by copies; reset by parse_parameters()).
+    mutable std::shared_ptr<const GmshMesh<dim>> file_mesh_read;
   };
 } // namespace Signorini
 

@@ -4,6 +4,7 @@
 
 #include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/cell_locator.h>
+#include <signorini/gmsh_geometry.h>
 #include <signorini/input_error.h>
 
 #include <algorithm>
@@ -77,6 +78,7 @@ namespace Signorini
     mesh_with_gmsh(const std::string                           &geometry_file,
                    const std::function<double(double, double)> &size_at)
     {
+      const GmshExitGuard guard("Mesh/Geometry file <" + geometry_file + ">");
       // (not the user's Gmsh configuration files: the same mesh everywhere)
       gmsh::initialize(0, nullptr, false);
       FlatMesh flat;
@@ -198,6 +200,7 @@ namespace Signorini
         if (!std::ifstream(path))
           throw InputError("Mesh/Geometry file: cannot open <" + path + ">");
         // read it now, so that a bad geometry is an input error
+        const GmshExitGuard guard("Mesh/Geometry file <" + path + ">");
         gmsh::initialize(0, nullptr, false);
         std::string error;
         try

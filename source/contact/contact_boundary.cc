@@ -479,6 +479,33 @@ namespace Signorini
 
 
   template <int dim>
+  Vector<double>
+  ContactBoundary<dim>::nodal_areas() const
+  {
+    Vector<double> areas(n_nodes());
+    for (unsigned int k = 0; k < n_nodes(); ++k)
+      for (auto entry = mass.begin(k); entry != mass.end(k); ++entry)
+        areas[k] += entry->value();
+    return areas;
+  }
+
+
+
+  template <int dim>
+  Vector<double>
+  ContactBoundary<dim>::nodal_pressures(const Vector<double> &forces) const
+  {
+    const Vector<double> areas = nodal_areas();
+    Vector<double>       pressures(n_nodes());
+    for (unsigned int k = 0; k < n_nodes(); ++k)
+      if (forces[k] != 0.)
+        pressures[k] = -forces[k] / areas[k];
+    return pressures;
+  }
+
+
+
+  template <int dim>
   const Vector<double> &
   ContactBoundary<dim>::nodal_gap() const
   {

@@ -103,6 +103,16 @@ namespace Signorini
     const SparseMatrix<double> &
     mass_matrix() const;
 
+    /// int_GC psi_k (the row sums of M): the area a node's force acts on.
+    Vector<double>
+    nodal_areas() const;
+
+    /// The nodal pressure -f_k / int_GC psi_k of the nodal forces @p forces
+    /// (ContactCondition::nodal_forces(); >= 0 in compression, 0 where f_k
+    /// is).
+    Vector<double>
+    nodal_pressures(const Vector<double> &forces) const;
+
     /// G_k = g(x_k)
     const Vector<double> &
     nodal_gap() const;
