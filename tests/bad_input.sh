@@ -1124,6 +1124,12 @@ cube_case "3D: geometry Gmsh cannot read" "Mesh/File name: geometry file <$work/
   "$work/broken.geo"
 cube_case "3D: geometry of a square" "square.geo as meshed by Gmsh> contains no tetrahedra" \
   "$src/tests/meshes/square.geo"
+# the star patch on tetrahedra: P2 patches only
+{ cube_prm "$cube"; printf 'subsection Error estimator\n  set Enable = true\n'
+  printf '  set Stress reconstruction = star patch\n  subsection Star patch\n'
+  printf '    set Local degree = 3\n  end\nend\n'; } > "$work/cube.prm"
+check "3D: star patch of degree 3" \
+  "Error estimator/Star patch/Local degree = 3: at most 2 on tetrahedra" "$work/cube.prm"
 cube_case "3D: geometry that calls Exit" \
   "Mesh/File name: geometry file <$work/exit.geo>: Gmsh ended the program" "$work/exit.geo"
 

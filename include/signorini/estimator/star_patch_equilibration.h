@@ -45,23 +45,23 @@ namespace Signorini
    * cell ||sigma^ -/+ K eps(U^)||^2_E, the terms of e [14], eps [9] and
    * eps_E [10].
    *
-   * Written for triangles only: the class exists in 3D (so that the
-   * registry declares the same parameters) but is refused there by name
-   * (is_implemented, StressReconstruction::registry()) and its compute()
-   * throws.
+   * Written out for triangles; on tetrahedra compute() runs the same
+   * construction with deal.II's Lagrange elements
+   * (compute_lagrange_star_patch(), "Local degree" 2), and so on triangles
+   * with "Lagrange elements" = true (a cross-check).
    */
   template <int dim>
   class StarPatchEquilibration : public StressReconstruction<dim>
   {
   public:
-    /// Whether compute() is implemented in dimension @p dim (triangles).
-    static constexpr bool is_implemented = (dim == 2);
+    /// compute() is implemented in 2D and 3D.
+    static constexpr bool is_implemented = true;
 
-    /// "Local degree", in the current subsection
+    /// "Local degree" and "Lagrange elements", in the current subsection
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read "Local degree" in the current subsection.
+    /// Read them in the current subsection.
     explicit StarPatchEquilibration(ParameterHandler &prm);
 
     /// The steps above; see StressReconstruction::compute().
@@ -76,12 +76,20 @@ namespace Signorini
     condition() const override;
 
   private:
+    /// compute() by compute_lagrange_star_patch().
+    void
+    compute_with_lagrange_elements(const EquilibrationInput<dim> &input,
+                                   const LA::Vector &admissible_displacement,
+                                   Vector<double>   &error_squared,
+                                   Vector<double>   &sum_squared);
+
     /// The degree of the patch problems.
     unsigned int local_degree;
+    /// Whether compute() uses compute_lagrange_star_patch() (always in 3D).
+    bool lagrange_elements;
   };
 
-  /// In 3D: throws an InputError (the construction is written for
-  /// triangles).
+  /// In 3D: compute_lagrange_star_patch().
   template <>
   void
   StarPatchEquilibration<3>::compute(const EquilibrationInput<3> &input,

@@ -126,8 +126,9 @@ namespace Signorini
   reconstruction_is_2d_only(const std::string &name)
   {
     return "Error estimator/Stress reconstruction = " + name +
-           " is implemented in 2D only (triangles); set Error "
-           "estimator/Enable = false to compute without the estimator";
+           " is implemented in 2D only (triangles); on tetrahedra choose "
+           "star patch, or set Error estimator/Enable = false to compute "
+           "without the estimator";
   }
 } // namespace Signorini
 
