@@ -449,6 +449,7 @@ namespace Signorini
           double norm = 0.;
           for (unsigned int i = 0; i < m; ++i)
             norm += kernel(i, k) * kernel(i, k);
+          // (not zero: a rigid motion vanishing at every node is zero)
           for (unsigned int i = 0; i < m; ++i)
             kernel(i, k) /= std::sqrt(norm);
         }
