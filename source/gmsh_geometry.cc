@@ -17,7 +17,8 @@ namespace Signorini
 {
   namespace
   {
-    /// What the innermost GmshExitGuard protects, empty if none.
+    /// What the live GmshExitGuard protects, empty if none (guards do not
+    /// nest).
     std::string guarded_activity;
 
     void

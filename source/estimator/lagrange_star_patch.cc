@@ -2,6 +2,8 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/table.h>
 
+#include <deal.II/dofs/dof_tools.h>
+
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
@@ -54,9 +56,7 @@ namespace Signorini
     struct Scratch
     {
       Scratch(const Mapping<dim> &mapping, const FESystem<dim> &fe)
-        : mapping(mapping)
-        , fe(fe)
-        , hat(1)
+        : hat(1)
         , quadrature(std::min(fe.degree + 1, 4u))
         , face_quadrature(face_rule<dim>(std::min(fe.degree + 1, 4u)))
         , values(mapping,
@@ -73,8 +73,6 @@ namespace Signorini
         , hat_face_values(mapping, hat, face_quadrature, update_values)
       {}
 
-      const Mapping<dim>       &mapping;
-      const FESystem<dim>      &fe;
       const FE_SimplexP<dim>    hat;
       const QGaussSimplex<dim>  quadrature;
       const Quadrature<dim - 1> face_quadrature;
@@ -154,6 +152,18 @@ namespace Signorini
                 fixed[cell_dof_indices[j]] = true;
           }
 
+    // the nodes' positions and components, for the rigid motions
+    std::map<types::global_dof_index, Point<dim>> node_positions;
+    DoFTools::map_dofs_to_support_points(input.mapping, dofs, node_positions);
+    std::vector<unsigned int> node_component(dofs.n_dofs());
+    for (const auto &cell : dofs.active_cell_iterators())
+      {
+        cell->get_dof_indices(cell_dof_indices);
+        for (unsigned int j = 0; j < n; ++j)
+          node_component[cell_dof_indices[j]] =
+            fe.system_to_component_index(j).first;
+      }
+
     // the patches this rank needs: those of the vertices of its cells
     std::vector<std::vector<typename DoFHandler<dim>::active_cell_iterator>>
                       cells_around(triangulation.n_vertices());
@@ -166,6 +176,29 @@ namespace Signorini
       for (const unsigned int v : cell->vertex_indices())
         if (needed_vertex[cell->vertex_index(v)])
           cells_around[cell->vertex_index(v)].push_back(cell);
+
+    // sigma_h of the displacement in FE equilibrium on the needed cells (P1:
+    // constant), once for the patches that share a cell
+    std::vector<SymmetricTensor<2, dim>> sigma_h_of(n_cells);
+    {
+      const FEValuesExtractors::Vector displacement(0);
+      FEValues<dim>                    p1_values(input.mapping,
+                              input.dof_handler.get_fe(),
+                              QGaussSimplex<dim>(1),
+                              update_gradients);
+      std::vector<Tensor<2, dim>>      gradient(1);
+      for (const auto &cell : dofs.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          if (needed_vertex[cell->vertex_index(v)])
+            {
+              p1_values.reinit(p1_cell(cell));
+              p1_values[displacement].get_function_gradients(
+                input.equilibrated_displacement, gradient);
+              sigma_h_of[cell->active_cell_index()] =
+                input.material.stress(symmetrize(gradient[0]));
+              break;
+            }
+    }
     std::vector<unsigned int> patch_vertices;
     for (unsigned int v = 0; v < needed_vertex.size(); ++v)
       if (needed_vertex[v] && !cells_around[v].empty())
@@ -209,11 +242,8 @@ namespace Signorini
       if (m == 0)
         return; // every node of the patch is fixed: z_i = 0
 
-      FullMatrix<double> matrix(m, m);
-      Vector<double>     rhs(m);
-      // the nodes' positions, for the rigid motions
-      std::map<types::global_dof_index, std::pair<Point<dim>, unsigned int>>
-                                               nodes;
+      FullMatrix<double>                       matrix(m, m);
+      Vector<double>                           rhs(m);
       std::array<double, dim>                  galerkin{}, galerkin_scale{};
       std::array<types::global_dof_index, dim> vertex_dofs{};
       const FEValuesExtractors::Vector         displacement(0);
@@ -232,23 +262,8 @@ namespace Signorini
           const auto &fe_values = scratch.values;
           const auto &hat       = scratch.hat_values;
 
-          // sigma_h of the displacement in FE equilibrium (P1: constant),
-          // from the hat functions' gradients
-          Tensor<2, dim> grad_u;
-          {
-            const auto &p1_fe = input.dof_handler.get_fe();
-            std::vector<types::global_dof_index> p1_dofs(
-              p1_fe.n_dofs_per_cell());
-            p1_cell(cell)->get_dof_indices(p1_dofs);
-            for (unsigned int j = 0; j < p1_dofs.size(); ++j)
-              {
-                const auto [c, node] = p1_fe.system_to_component_index(j);
-                grad_u[c] += input.equilibrated_displacement[p1_dofs[j]] *
-                             hat.shape_grad(node, 0);
-              }
-          }
-          const SymmetricTensor<2, dim> sigma_h =
-            input.material.stress(symmetrize(grad_u));
+          const SymmetricTensor<2, dim> &sigma_h =
+            sigma_h_of[cell->active_cell_index()];
           if (e == 0)
             for (unsigned int c = 0; c < dim; ++c)
               vertex_dofs[c] =
@@ -264,13 +279,6 @@ namespace Signorini
               index[j] = (it == local.end()) ? numbers::invalid_unsigned_int :
                                                it->second;
             }
-          // the nodes' positions
-          for (unsigned int j = 0; j < n; ++j)
-            nodes.emplace(
-              patch_dofs[e][j],
-              std::make_pair(
-                input.mapping.transform_unit_to_real_cell(cell, support[j]),
-                fe.system_to_component_index(j).first));
 
           for (const unsigned int q : fe_values.quadrature_point_indices())
             {
@@ -406,8 +414,9 @@ namespace Signorini
         const auto       motion = [&](const unsigned int            k,
                                 const types::global_dof_index i) {
           return rigid_motion<dim>(k,
-                                   Point<dim>((nodes[i].first - centre) / size),
-                                   nodes[i].second);
+                                   Point<dim>((node_positions.at(i) - centre) /
+                                              size),
+                                   node_component[i]);
         };
         LAPACKFullMatrix<double> at_fixed(
           std::max<std::size_t>(constrained.size(), 1), n_rigid);
