@@ -44,11 +44,13 @@ namespace Signorini
                         "",
                         Patterns::Anything(),
                         dim == 2 ?
-                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles; "
+                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles, or "
+                          "a .geo that Gmsh meshes when it is read; "
                           "physical curve tags are boundary ids (do not use "
                           "0); a relative path is taken from the directory "
                           "of the parameter file." :
-                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of tetrahedra; "
+                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of tetrahedra, "
+                          "or a .geo that Gmsh meshes when it is read; "
                           "physical surface tags are boundary ids (do not "
                           "use 0); a relative path is taken from the "
                           "directory of the parameter file.");
