@@ -19,10 +19,11 @@ namespace Signorini
                       std::to_string(default_dimension),
                       Patterns::Integer(2, 3),
                       "Space dimension of the problem. In 3D: the generated "
-                      "block (extruded), uniform cycles, the contact with "
-                      "both conditions and solvers; the Gmsh reader, the "
-                      "stress reconstructions and adapted meshes are 2D "
-                      "only and refuse 3 by name.");
+                      "block (extruded) or Gmsh meshes of tetrahedra, "
+                      "uniform cycles, the contact with both conditions and "
+                      "solvers, the star-patch estimate; the element "
+                      "equilibration and adapted meshes are 2D only and "
+                      "refuse 3 by name.");
   }
 
 
