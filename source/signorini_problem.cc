@@ -19,11 +19,12 @@ namespace Signorini
                       std::to_string(default_dimension),
                       Patterns::Integer(2, 3),
                       "Space dimension of the problem. In 3D: the generated "
-                      "block (extruded) or Gmsh meshes of tetrahedra, "
-                      "uniform cycles, the contact with both conditions and "
-                      "solvers, the star-patch estimate; the element "
-                      "equilibration and adapted meshes are 2D only and "
-                      "refuse 3 by name.");
+                      "block (extruded) or Gmsh meshes of tetrahedra, the "
+                      "contact with both conditions and solvers, the "
+                      "star-patch estimate, uniform cycles or adapted meshes "
+                      "by remeshing; the element equilibration and the "
+                      "refinement and bisection of adapted meshes are 2D "
+                      "only and refuse 3 by name.");
   }
 
 
@@ -55,6 +56,7 @@ namespace Signorini
     SizePredictor::registry().declare_parameters(prm);
     AdaptiveMesh<dim>::declare_parameters(prm);
     AdaptationTarget::declare_parameters(prm);
+    ErrorDensitySmoothing::declare_parameters(prm);
     ContactComputation<dim>::declare_parameters(prm);
     ConstitutiveRelationError<dim>::declare_parameters(prm);
     ReferenceSolution<dim>::declare_parameters(prm);
@@ -82,7 +84,12 @@ namespace Signorini
     estimator.parse_parameters(prm);
     size_predictor = SizePredictor::registry().create(prm, dim);
     adaptation_target.parse_parameters(prm);
+    error_density_smoothing.parse_parameters(prm);
     adaptive_mesh.parse_parameters(prm);
+    if (dim == 3 && !size_predictor->refines_uniformly() && !remeshing())
+      throw InputError("Mesh adaptation/Realisation: adapted meshes of "
+                       "tetrahedra are made by remeshing (Realisation = "
+                       "remeshing); refinement is uniform only in 3D");
     if (remeshing())
       {
         std::set<types::boundary_id> boundary_ids =
@@ -194,7 +201,9 @@ namespace Signorini
     TimerOutput::Scope   t(timer, "mesh adaptation");
     const unsigned int   n_cells = triangulation.n_active_cells();
     const Vector<double> local_error =
-      estimator.enabled() ? estimate.local : Vector<double>(n_cells);
+      estimator.enabled() ?
+        error_density_smoothing.apply(triangulation, estimate.local) :
+        Vector<double>(n_cells);
     const std::vector<bool> near_singularity =
       cells_near_singular_points(triangulation,
                                  computation.contact_transition_vertices());

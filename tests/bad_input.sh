@@ -1132,6 +1132,33 @@ check "3D: star patch of degree 3" \
   "Error estimator/Star patch/Local degree = 3: at most 2 on tetrahedra" "$work/cube.prm"
 cube_case "3D: geometry that calls Exit" \
   "Mesh/File name: geometry file <$work/exit.geo>: Gmsh ended the program" "$work/exit.geo"
+# adapted meshes of tetrahedra: remeshing only, with a geometry of a volume
+# whose physical surfaces carry the ids in use. cube_adaptive REALISATION
+# [GEOMETRY]: the cube adapted to 10 % with the star patch
+cube_adaptive() {
+  cube_prm "$cube"
+  printf 'subsection Error estimator\n  set Enable = true\n'
+  printf '  set Stress reconstruction = star patch\nend\n'
+  printf 'subsection Mesh adaptation\n  set Strategy = optimal size\n'
+  printf '  set Target error = 0.1\n  set Realisation = %s\nend\n' "$1"
+  [ $# -ge 2 ] && printf 'subsection Mesh\n  set Geometry file = %s\nend\n' "$2"
+}
+cube_adaptive refinement "$src/tests/meshes/cube.geo" > "$work/cube.prm"
+check "3D: adapted by refinement" \
+  "Mesh adaptation/Realisation: adapted meshes of tetrahedra are made by remeshing" "$work/cube.prm"
+cube_adaptive remeshing > "$work/cube.prm"
+check "3D: remeshing without a geometry" \
+  "Mesh adaptation/Realisation = remeshing needs the geometry of the domain" "$work/cube.prm"
+cube_adaptive remeshing "$src/tests/meshes/square.geo" > "$work/cube.prm"
+check "3D: remeshing a geometry without a volume" \
+  "Mesh/Geometry file: <$src/tests/meshes/square.geo>: it defines no volume to mesh" "$work/cube.prm"
+sed 's/Physical Surface(2) = {1};/Physical Surface(7) = {1};/' \
+  "$src/tests/meshes/cube.geo" > "$work/cube-retagged.geo"
+cube_adaptive remeshing "$work/cube-retagged.geo" > "$work/cube.prm"
+check "3D: remeshing a geometry without a boundary id in use" \
+  "no physical surface has the tag 2, a boundary id of the input" "$work/cube.prm"
+cube_adaptive remeshing "$src/tests/meshes/cube.geo" > "$work/cube.prm"
+valid_prm "3D: remeshing the cube" --validate "$work/cube.prm"
 
 # the documented defaults parse back; they name no support, so --validate
 # says what is missing (the defaults are a template, not a case)

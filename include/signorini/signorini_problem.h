@@ -9,6 +9,7 @@
 #include <deal.II/distributed/shared_tria.h>
 
 #include <signorini/adaptation/adaptive_mesh.h>
+#include <signorini/adaptation/error_density_smoothing.h>
 #include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/adaptation/size_predictor.h>
 #include <signorini/adaptation/target_error.h>
@@ -182,6 +183,7 @@ namespace Signorini
     AdaptiveMesh<dim>                    adaptive_mesh;
     std::unique_ptr<SizePredictor>       size_predictor;
     AdaptationTarget                     adaptation_target;
+    ErrorDensitySmoothing                error_density_smoothing;
     GmshRemesher<dim>                    remesher;
     double                               predicted_cells = 0.;
 

@@ -22,7 +22,7 @@ namespace Signorini
         {{"refinement",
           Realisation::refinement,
           "red refinement of the initial mesh in whole levels (sizes in steps "
-          "of 2), made conforming by green closure"},
+          "of 2), made conforming by green closure; 3D: uniform only"},
          {"bisection",
           Realisation::bisection,
           "newest-vertex bisection of the initial mesh (sizes in steps of "
@@ -30,7 +30,7 @@ namespace Signorini
          {"remeshing",
           Realisation::remeshing,
           "the geometry meshed anew by Gmsh with the predicted sizes as a "
-          "continuous size field"}});
+          "continuous size field, 2D and 3D"}});
       return names;
     }
   } // namespace

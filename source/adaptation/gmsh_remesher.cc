@@ -19,12 +19,29 @@ namespace Signorini
 {
   namespace
   {
+    /// The size of Gmsh's cells of measure @p measure: the edge of the
+    /// equilateral triangle of that area in 2D. In 3D Gmsh's Delaunay
+    /// tetrahedra of size h are larger than the regular one of edge h,
+    /// h^3 / (6 sqrt 2): it makes about 0.55 times as many (measured on the
+    /// unit cube: 0.59 at size 0.1, 0.54 at 0.05), and the size is taken
+    /// accordingly, so that the mesh has about N* cells.
+    template <int dim>
+    double
+    gmsh_size_of(const double measure)
+    {
+      const double unit_measure =
+        (dim == 2) ? std::sqrt(3.) / 4. : 1. / (6. * std::sqrt(2.) * 0.55);
+      return std::pow(measure / unit_measure, 1. / dim);
+    }
+
+
+
     /// The mesh Gmsh made, flat, as rank 0 sends it to the others.
     struct FlatMesh
     {
-      std::vector<double>       coordinates;    // x, y per vertex
-      std::vector<unsigned int> triangles;      // 3 vertices per cell
-      std::vector<unsigned int> boundary_lines; // 2 vertices and the id
+      std::vector<double>       coordinates; // dim coordinates per vertex
+      std::vector<unsigned int> cells;       // dim + 1 vertices per cell
+      std::vector<unsigned int> boundary;    // dim vertices and the id per face
     };
 
 
@@ -33,7 +50,7 @@ namespace Signorini
     /// (x = 0), 2 (y = 0), 3 and 5 (y = 1, x < or > 1/2), 4 and 6 (x = 1,
     /// y > or < 1/2).
     void
-    add_block_geometry()
+    add_block_geometry(const unsigned int dim)
     {
       namespace geo = gmsh::model::geo;
       const int p0 = geo::addPoint(0, 0, 0), p1 = geo::addPoint(1, 0, 0),
@@ -51,10 +68,28 @@ namespace Signorini
       for (const auto &[line, id] : edges)
         loop.push_back(line);
       const int surface = geo::addPlaneSurface({geo::addCurveLoop(loop)});
+      if (dim == 2)
+        {
+          geo::synchronize();
+          for (const auto &[line, id] : edges)
+            gmsh::model::addPhysicalGroup(1, {line}, id);
+          gmsh::model::addPhysicalGroup(2, {surface}, 1);
+          return;
+        }
+      // The block extruded (MeshInput): the unit cube, each side face the
+      // id of its edge, the faces z = 0 and z = 1 the id 7. Gmsh returns
+      // the face z = 1, the volume, then the side faces in the order of the
+      // curve loop.
+      gmsh::vectorpair extruded;
+      geo::extrude({{2, surface}}, 0, 0, 1, extruded);
       geo::synchronize();
-      for (const auto &[line, id] : edges)
-        gmsh::model::addPhysicalGroup(1, {line}, id);
-      gmsh::model::addPhysicalGroup(2, {surface}, 1);
+      AssertDimension(extruded.size(), 2 + edges.size());
+      for (unsigned int e = 0; e < edges.size(); ++e)
+        gmsh::model::addPhysicalGroup(2,
+                                      {extruded[2 + e].second},
+                                      edges[e].second);
+      gmsh::model::addPhysicalGroup(2, {surface, extruded[0].second}, 7);
+      gmsh::model::addPhysicalGroup(3, {extruded[1].second}, 1);
     }
 
 
@@ -74,9 +109,10 @@ namespace Signorini
 
     /// Mesh the geometry with Gmsh, the size at a point given by
     /// @p size_at, and flatten the result.
+    template <int dim>
     FlatMesh
-    mesh_with_gmsh(const std::string                           &geometry_file,
-                   const std::function<double(double, double)> &size_at)
+    mesh_with_gmsh(const std::string &geometry_file,
+                   const std::function<double(const Point<dim> &)> &size_at)
     {
       const GmshExitGuard guard("Mesh/Geometry file <" + geometry_file + ">");
       // (not the user's Gmsh configuration files: the same mesh everywhere)
@@ -89,13 +125,14 @@ namespace Signorini
           if (geometry_file.empty())
             {
               gmsh::model::add("remeshed");
-              add_block_geometry();
+              add_block_geometry(dim);
             }
           else
             gmsh::open(geometry_file);
           // (after the file, which may set options of its own)
           gmsh::option::setNumber("General.NumThreads", 1);
-          gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+          gmsh::option::setNumber("Mesh.Algorithm", 6);   // Frontal-Delaunay
+          gmsh::option::setNumber("Mesh.Algorithm3D", 1); // Delaunay
           gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
           gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
           gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
@@ -105,17 +142,28 @@ namespace Signorini
           gmsh::option::setNumber("Mesh.ElementOrder", 1);
           gmsh::option::setNumber("Mesh.RecombineAll", 0);
           gmsh::model::mesh::setSizeCallback(
-            [&](int, int, double x, double y, double) {
-              return size_at(x, y);
+            [&](int, int, double x, double y, double z) {
+              Point<dim> p;
+              p[0] = x;
+              p[1] = y;
+              if constexpr (dim == 3)
+                p[2] = z;
+              else
+                (void)z;
+              return size_at(p);
             });
-          gmsh::model::mesh::generate(2);
+          gmsh::model::mesh::generate(dim);
 
           std::vector<std::size_t> node_tags;
           std::vector<double>      coordinates, parametric;
           gmsh::model::mesh::getNodes(node_tags, coordinates, parametric);
           std::map<std::size_t, unsigned int> vertex_of_tag;
           std::vector<std::size_t>            element_tags, element_nodes;
-          gmsh::model::mesh::getElementsByType(2, element_tags, element_nodes);
+          // Gmsh's element types: 1 line, 2 triangle, 4 tetrahedron
+          const int cell_type = (dim == 2) ? 2 : 4, face_type = dim - 1;
+          gmsh::model::mesh::getElementsByType(cell_type,
+                                               element_tags,
+                                               element_nodes);
           std::map<std::size_t, unsigned int> index_of_node;
           for (unsigned int n = 0; n < node_tags.size(); ++n)
             index_of_node[node_tags[n]] = n;
@@ -123,16 +171,16 @@ namespace Signorini
             const auto [entry, inserted] =
               vertex_of_tag.emplace(tag, vertex_of_tag.size());
             if (inserted)
-              for (unsigned int d = 0; d < 2; ++d)
+              for (unsigned int d = 0; d < dim; ++d)
                 flat.coordinates.push_back(
                   coordinates[3 * index_of_node.at(tag) + d]);
             return entry->second;
           };
           for (const std::size_t tag : element_nodes)
-            flat.triangles.push_back(vertex(tag));
+            flat.cells.push_back(vertex(tag));
 
           gmsh::vectorpair groups;
-          gmsh::model::getPhysicalGroups(groups, 1);
+          gmsh::model::getPhysicalGroups(groups, dim - 1);
           for (const auto &[group_dim, id] : groups)
             {
               std::vector<int> entities;
@@ -142,17 +190,16 @@ namespace Signorini
                   // (Gmsh 4.8 leaves non-empty outputs as they are)
                   element_tags.clear();
                   element_nodes.clear();
-                  gmsh::model::mesh::getElementsByType(1,
+                  gmsh::model::mesh::getElementsByType(face_type,
                                                        element_tags,
                                                        element_nodes,
                                                        entity);
                   for (unsigned int e = 0; e < element_tags.size(); ++e)
                     {
-                      flat.boundary_lines.push_back(
-                        vertex(element_nodes[2 * e]));
-                      flat.boundary_lines.push_back(
-                        vertex(element_nodes[2 * e + 1]));
-                      flat.boundary_lines.push_back(id);
+                      for (unsigned int v = 0; v < dim; ++v)
+                        flat.boundary.push_back(
+                          vertex(element_nodes[dim * e + v]));
+                      flat.boundary.push_back(id);
                     }
                 }
             }
@@ -169,13 +216,14 @@ namespace Signorini
           throw std::runtime_error(gmsh_failure(geometry_file, exc.what()));
         }
       gmsh::finalize();
-      if (flat.triangles.empty())
-        throw std::runtime_error("Mesh adaptation/Realisation = remeshing: "
-                                 "Gmsh made no triangles" +
-                                 (geometry_file.empty() ?
-                                    std::string() :
-                                    " from <" + geometry_file +
-                                      "> (does it define a plane surface?)"));
+      if (flat.cells.empty())
+        throw std::runtime_error(
+          "Mesh adaptation/Realisation = remeshing: Gmsh made no " +
+          std::string(dim == 2 ? "triangles" : "tetrahedra") +
+          (geometry_file.empty() ?
+             std::string() :
+             " from <" + geometry_file + "> (does it define a " +
+               (dim == 2 ? "plane surface" : "volume") + "?)"));
       return flat;
     }
   } // namespace
@@ -188,12 +236,12 @@ namespace Signorini
     const MeshInput<dim>               &input,
     const std::set<types::boundary_id> &boundary_ids) const
   {
-    if (dim != 2 || (input.source != MeshInput<dim>::Source::block &&
-                     input.geometry_file_name.empty()))
+    if (input.source != MeshInput<dim>::Source::block &&
+        input.geometry_file_name.empty())
       throw InputError(
         "Mesh adaptation/Realisation = remeshing needs the geometry of the "
-        "domain: the generated block (Mesh/Source = block, 2D) has one; for "
-        "a Gmsh mesh file give its .geo as Mesh/Geometry file");
+        "domain: the generated block (Mesh/Source = block) has one; for a "
+        "Gmsh mesh file give its .geo as Mesh/Geometry file");
     if (input.source == MeshInput<dim>::Source::file)
       {
         const std::string path = input.path_of(input.geometry_file_name);
@@ -207,17 +255,20 @@ namespace Signorini
           {
             gmsh::option::setNumber("General.Terminal", 0);
             gmsh::open(path);
-            gmsh::vectorpair surfaces, curves;
-            gmsh::model::getEntities(surfaces, 2);
-            gmsh::model::getPhysicalGroups(curves, 1);
+            gmsh::vectorpair domains, boundary_groups;
+            gmsh::model::getEntities(domains, dim);
+            gmsh::model::getPhysicalGroups(boundary_groups, dim - 1);
             std::set<int> tags;
-            for (const auto &[curve_dim, tag] : curves)
+            for (const auto &[group_dim, tag] : boundary_groups)
               tags.insert(tag);
-            if (surfaces.empty())
-              error = "it defines no surface to mesh";
+            if (domains.empty())
+              error = dim == 2 ? "it defines no surface to mesh" :
+                                 "it defines no volume to mesh";
             for (const auto id : boundary_ids)
               if (error.empty() && tags.count(id) == 0)
-                error = "no physical curve has the tag " + std::to_string(id) +
+                error = std::string(dim == 2 ? "no physical curve" :
+                                               "no physical surface") +
+                        " has the tag " + std::to_string(id) +
                         ", a boundary id of the input (the remeshed mesh "
                         "would lack it)";
           }
@@ -245,100 +296,116 @@ namespace Signorini
                             Triangulation<dim>   &mesh) const
   {
     // (check_geometry() ran at input)
-    Assert(dim == 2, ExcInternalError());
-    if constexpr (dim == 2)
-      {
-        const MPI_Comm communicator = MPI_COMM_WORLD;
-        FlatMesh       flat;
-        // rank 0 meshes; a failure there is sent to every rank with the
-        // (empty) mesh, so that all stop together
-        std::string failure;
-        if (Utilities::MPI::this_mpi_process(communicator) == 0)
-          try
-            {
-              // log of the size asked for at every vertex: the mean over its
-              // cells of log(r_E (4 |E| / sqrt 3)^(1/2))
-              std::vector<double>       log_size(mesh.n_vertices(), 0.);
-              std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
-              for (const auto &cell : mesh.active_cell_iterators())
-                {
-                  const double size =
-                    size_ratio[cell->active_cell_index()] *
-                    std::sqrt(4. * cell->measure() / std::sqrt(3.));
-                  for (const unsigned int v : cell->vertex_indices())
-                    {
-                      log_size[cell->vertex_index(v)] += std::log(size);
-                      ++n_cells[cell->vertex_index(v)];
-                    }
-                }
-              for (unsigned int v = 0; v < log_size.size(); ++v)
-                if (n_cells[v] > 0)
-                  {
-                    log_size[v] /= n_cells[v];
-                  }
-              const CellLocator<dim> locator(mesh);
-              const auto size_at = [&](const double x, const double y) {
-                // (outside the mesh, near a curved boundary: the nearest
-                // cell, without extrapolation)
-                const auto  location  = locator.locate(Point<dim>(x, y));
-                const auto &cell      = locator.cell(location.cell);
-                double      log_value = 0., weight_sum = 0.;
-                for (const unsigned int v : cell->vertex_indices())
-                  {
-                    const double weight =
-                      std::clamp(location.weights[v], 0., 1.);
-                    log_value += weight * log_size[cell->vertex_index(v)];
-                    weight_sum += weight;
-                  }
-                return std::exp(log_value / weight_sum);
-              };
-              flat =
-                mesh_with_gmsh(input.source == MeshInput<dim>::Source::block ?
-                                 std::string() :
-                                 input.path_of(input.geometry_file_name),
-                               size_at);
-            }
-          catch (const std::exception &exc)
-            {
-              failure = exc.what();
-            }
-        failure = Utilities::MPI::broadcast(communicator, failure);
-        if (!failure.empty())
-          throw std::runtime_error(failure);
-        flat.coordinates =
-          Utilities::MPI::broadcast(communicator, flat.coordinates);
-        flat.triangles =
-          Utilities::MPI::broadcast(communicator, flat.triangles);
-        flat.boundary_lines =
-          Utilities::MPI::broadcast(communicator, flat.boundary_lines);
+    const MPI_Comm communicator = MPI_COMM_WORLD;
+    FlatMesh       flat;
+    // rank 0 meshes; a failure there is sent to every rank with the (empty)
+    // mesh, so that all stop together
+    std::string failure;
+    if (Utilities::MPI::this_mpi_process(communicator) == 0)
+      try
+        {
+          const std::vector<double> log_size =
+            vertex_log_sizes(mesh, size_ratio);
+          const CellLocator<dim> locator(mesh);
+          const auto             size_at = [&](const Point<dim> &p) {
+            // (outside the mesh, near a curved boundary: the nearest cell,
+            // without extrapolation)
+            const auto  location  = locator.locate(p);
+            const auto &cell      = locator.cell(location.cell);
+            double      log_value = 0., weight_sum = 0.;
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                const double weight = std::clamp(location.weights[v], 0., 1.);
+                log_value += weight * log_size[cell->vertex_index(v)];
+                weight_sum += weight;
+              }
+            return std::exp(log_value / weight_sum);
+          };
+          flat =
+            mesh_with_gmsh<dim>(input.source == MeshInput<dim>::Source::block ?
+                                  std::string() :
+                                  input.path_of(input.geometry_file_name),
+                                size_at);
+        }
+      catch (const std::exception &exc)
+        {
+          failure = exc.what();
+        }
+    failure = Utilities::MPI::broadcast(communicator, failure);
+    if (!failure.empty())
+      throw std::runtime_error(failure);
+    flat.coordinates =
+      Utilities::MPI::broadcast(communicator, flat.coordinates);
+    flat.cells    = Utilities::MPI::broadcast(communicator, flat.cells);
+    flat.boundary = Utilities::MPI::broadcast(communicator, flat.boundary);
 
-        std::vector<Point<dim>> vertices;
-        for (unsigned int v = 0; 2 * v < flat.coordinates.size(); ++v)
-          vertices.emplace_back(flat.coordinates[2 * v],
-                                flat.coordinates[2 * v + 1]);
-        std::vector<CellData<dim>> cells;
-        for (unsigned int c = 0; 3 * c < flat.triangles.size(); ++c)
+    std::vector<Point<dim>> vertices(flat.coordinates.size() / dim);
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      for (unsigned int d = 0; d < dim; ++d)
+        vertices[v][d] = flat.coordinates[dim * v + d];
+    std::vector<CellData<dim>> cells(flat.cells.size() / (dim + 1),
+                                     CellData<dim>(dim + 1));
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      {
+        for (unsigned int v = 0; v <= dim; ++v)
+          cells[c].vertices[v] = flat.cells[(dim + 1) * c + v];
+        // tetrahedra of negative volume turned, as the Gmsh reader does
+        if constexpr (dim == 3)
           {
-            CellData<dim> cell(3);
-            cell.vertices = {flat.triangles[3 * c],
-                             flat.triangles[3 * c + 1],
-                             flat.triangles[3 * c + 2]};
-            cells.push_back(cell);
+            Tensor<2, dim> edges;
+            for (unsigned int k = 1; k <= dim; ++k)
+              edges[k - 1] =
+                vertices[cells[c].vertices[k]] - vertices[cells[c].vertices[0]];
+            if (determinant(edges) < 0)
+              std::swap(cells[c].vertices[1], cells[c].vertices[2]);
           }
-        SubCellData boundary;
-        for (unsigned int l = 0; 3 * l < flat.boundary_lines.size(); ++l)
-          {
-            CellData<1> line;
-            line.vertices    = {flat.boundary_lines[3 * l],
-                                flat.boundary_lines[3 * l + 1]};
-            line.boundary_id = flat.boundary_lines[3 * l + 2];
-            boundary.boundary_lines.push_back(line);
-          }
-        GridTools::invert_cells_with_negative_measure(vertices, cells);
-        mesh.clear();
-        mesh.create_triangulation(vertices, cells, boundary);
       }
+    if constexpr (dim == 2)
+      GridTools::invert_cells_with_negative_measure(vertices, cells);
+    SubCellData boundary;
+    for (unsigned int f = 0; (dim + 1) * f < flat.boundary.size(); ++f)
+      {
+        CellData<dim - 1> face(dim);
+        for (unsigned int v = 0; v < dim; ++v)
+          face.vertices[v] = flat.boundary[(dim + 1) * f + v];
+        face.boundary_id = flat.boundary[(dim + 1) * f + dim];
+        if constexpr (dim == 2)
+          boundary.boundary_lines.push_back(face);
+        else
+          boundary.boundary_quads.push_back(face);
+      }
+    mesh.clear();
+    mesh.create_triangulation(vertices, cells, boundary);
   }
+
+
+
+  template <int dim>
+  std::vector<double>
+  GmshRemesher<dim>::vertex_log_sizes(const Triangulation<dim> &mesh,
+                                      const Vector<double>     &size_ratio)
+  {
+    AssertDimension(size_ratio.size(), mesh.n_active_cells());
+    std::vector<double>       log_size(mesh.n_vertices(), 0.);
+    std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        const double log_cell_size =
+          std::log(size_ratio[cell->active_cell_index()] *
+                   gmsh_size_of<dim>(cell->measure()));
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            log_size[cell->vertex_index(v)] += log_cell_size;
+            ++n_cells[cell->vertex_index(v)];
+          }
+      }
+    for (unsigned int v = 0; v < log_size.size(); ++v)
+      if (n_cells[v] > 0)
+        log_size[v] /= n_cells[v];
+    return log_size;
+  }
+
+
 
   template class GmshRemesher<2>;
   template class GmshRemesher<3>;

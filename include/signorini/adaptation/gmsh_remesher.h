@@ -53,6 +53,14 @@ namespace Signorini
     remesh(const MeshInput<dim> &input,
            const Vector<double> &size_ratio,
            Triangulation<dim>   &mesh) const;
+
+  private:
+    /// log of the size asked for at every vertex of @p mesh: the mean of
+    /// log(r_E h*_E) over its cells, h*_E the size of Gmsh's cells of the
+    /// measure of E.
+    static std::vector<double>
+    vertex_log_sizes(const Triangulation<dim> &mesh,
+                     const Vector<double>     &size_ratio);
   };
 } // namespace Signorini
 
