@@ -36,6 +36,36 @@ namespace Signorini
 
 
 
+    /// log of the size asked for at every vertex of @p mesh: the mean of
+    /// log(r_E h_E) over its cells, h_E the size of Gmsh's cells of the
+    /// measure of E.
+    template <int dim>
+    std::vector<double>
+    vertex_log_sizes(const Triangulation<dim> &mesh,
+                     const Vector<double>     &size_ratio)
+    {
+      AssertDimension(size_ratio.size(), mesh.n_active_cells());
+      std::vector<double>       log_size(mesh.n_vertices(), 0.);
+      std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
+      for (const auto &cell : mesh.active_cell_iterators())
+        {
+          const double log_cell_size =
+            std::log(size_ratio[cell->active_cell_index()] *
+                     gmsh_size_of<dim>(cell->measure()));
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              log_size[cell->vertex_index(v)] += log_cell_size;
+              ++n_cells[cell->vertex_index(v)];
+            }
+        }
+      for (unsigned int v = 0; v < log_size.size(); ++v)
+        if (n_cells[v] > 0)
+          log_size[v] /= n_cells[v];
+      return log_size;
+    }
+
+
+
     /// The mesh Gmsh made, flat, as rank 0 sends it to the others.
     struct FlatMesh
     {
@@ -48,7 +78,7 @@ namespace Signorini
 
     /// The generated block (MeshInput): the unit square, boundary ids 1
     /// (x = 0), 2 (y = 0), 3 and 5 (y = 1, x < or > 1/2), 4 and 6 (x = 1,
-    /// y > or < 1/2).
+    /// y > or < 1/2); for @p dim = 3 extruded to the unit cube.
     void
     add_block_geometry(const unsigned int dim)
     {
@@ -376,33 +406,6 @@ namespace Signorini
       }
     mesh.clear();
     mesh.create_triangulation(vertices, cells, boundary);
-  }
-
-
-
-  template <int dim>
-  std::vector<double>
-  GmshRemesher<dim>::vertex_log_sizes(const Triangulation<dim> &mesh,
-                                      const Vector<double>     &size_ratio)
-  {
-    AssertDimension(size_ratio.size(), mesh.n_active_cells());
-    std::vector<double>       log_size(mesh.n_vertices(), 0.);
-    std::vector<unsigned int> n_cells(mesh.n_vertices(), 0);
-    for (const auto &cell : mesh.active_cell_iterators())
-      {
-        const double log_cell_size =
-          std::log(size_ratio[cell->active_cell_index()] *
-                   gmsh_size_of<dim>(cell->measure()));
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            log_size[cell->vertex_index(v)] += log_cell_size;
-            ++n_cells[cell->vertex_index(v)];
-          }
-      }
-    for (unsigned int v = 0; v < log_size.size(); ++v)
-      if (n_cells[v] > 0)
-        log_size[v] /= n_cells[v];
-    return log_size;
   }
 
 
