@@ -142,9 +142,9 @@ namespace Signorini
         if (std::any_of(level_change.begin(),
                         level_change.end(),
                         [change](const int k) { return k != change; }))
-          throw InputError("Mesh adaptation: adapted meshes (other than "
-                           "uniform refinement) are implemented in 2D only "
-                           "(triangles)");
+          throw InputError("Mesh adaptation/Realisation: adapted meshes of "
+                           "tetrahedra are made by remeshing (Realisation = "
+                           "remeshing); refinement is uniform only in 3D");
         MeshInput<dim> refined      = input;
         refined.initial_refinements = std::max(0, int(level_of[0]) + change);
         initialize(refined, mesh);
@@ -430,8 +430,9 @@ namespace Signorini
           {
             if (cell->face(f)->has_children())
               throw InputError(
-                "Mesh adaptation: adapted meshes (other than uniform "
-                "refinement) are implemented in 2D only (triangles)");
+                "Mesh adaptation/Realisation: adapted meshes of tetrahedra "
+                "are made by remeshing (Realisation = remeshing); refinement "
+                "is uniform only in 3D");
             if (cell->face(f)->at_boundary())
               {
                 CellData<2> face(3);

@@ -1,5 +1,6 @@
 #include <signorini/adaptation/error_density_smoothing.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
