@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The error in constitutive relation on tetrahedra (the star patch, the only
-reconstruction in 3D): its effectivity on
+"""The error in constitutive relation on tetrahedra, for each reconstruction
+(--reconstructions; by default the element equilibration with enhanced
+densities, the default, and the star patch): its effectivity on
 
 - the unit cube meshed by Gmsh (sizes --sizes) with the manufactured
   solution u = (x(1-x) y(1-y) z(1-z), 0, 0), zero on the boundary, against
@@ -14,6 +15,8 @@ estimate's seconds (Release, worker threads).
 
 Usage: bench/estimator_3d_study.py [--sizes 0.25 0.125 0.0625]
                                    [--block-cycles 2] [--build build]
+                                   [--reconstructions "element equilibration"
+                                    "star patch"]
 """
 import argparse
 import csv
@@ -33,7 +36,7 @@ BODY_FORCE = (
     f" -({LAMBDA}+{MU})*(1-2*x)*y*(1-y)*(1-2*z)")
 
 
-def cube_case(size, workdir):
+def cube_case(size, workdir, reconstruction):
     """The manufactured case on the Gmsh cube of mesh size @p size."""
     geo = os.path.join(workdir, f"cube-{size}.geo")
     with open(geo, "w") as f:
@@ -69,7 +72,7 @@ subsection Exact solution
 end
 subsection Error estimator
   set Enable = true
-  set Stress reconstruction = star patch
+  set Stress reconstruction = {reconstruction}
 end
 subsection Output
   set Print timing = false
@@ -90,36 +93,41 @@ def main():
                         default=[0.25, 0.125, 0.0625])
     parser.add_argument("--block-cycles", type=int, default=2)
     parser.add_argument("--build", default="build")
+    parser.add_argument("--reconstructions", nargs="+",
+                        default=["element equilibration", "star patch"])
     args = parser.parse_args()
     exe = os.path.join(ROOT, args.build, "signorini")
     with tempfile.TemporaryDirectory() as workdir:
-        print("| case | tetrahedra | e | exact energy error | effectivity "
-              "| estimate s |")
-        print("|---|---:|---:|---:|---:|---:|")
-        for size in args.sizes:
-            r = rows(exe, *cube_case(size, workdir))[-1]
-            print(f"| cube, h = {size} | {r['cells']} | {float(r['e']):.4g} "
-                  f"| {float(r['energy_error']):.4g} "
-                  f"| {float(r['e']) / float(r['energy_error']):.3f} "
-                  f"| {float(r['estimate_seconds']):.2f} |", flush=True)
-        prm, out = write_case(
-            "block-3d.prm",
-            {"Number of cycles": args.block_cycles,
-             "Mesh/Initial refinements": 0,
-             "Error estimator/Enable": "true",
-             "Error estimator/Stress reconstruction": "star patch",
-             "Reference solution/Extra refinements": 2,
-             "Output/Write vtu": "false", "Output/Print timing": "false"},
-            workdir)
-        print("\n| case | tetrahedra | eps % | eps_ex % | effectivity "
-              "| estimate s |")
-        print("|---|---:|---:|---:|---:|---:|")
-        for r in rows(exe, prm, out):
-            print(f"| 3D block | {r['cells']} | {100 * float(r['eps']):.3f} "
-                  f"| {100 * float(r['eps_ex']):.3f} "
-                  f"| {float(r['effectivity']):.3f} "
-                  f"| {float(r['estimate_seconds']):.2f} |", flush=True)
-
+        print("| reconstruction | case | tetrahedra | e | exact energy error "
+              "| effectivity | estimate s |")
+        print("|---|---|---:|---:|---:|---:|---:|")
+        for reconstruction in args.reconstructions:
+            for size in args.sizes:
+                r = rows(exe, *cube_case(size, workdir, reconstruction))[-1]
+                print(f"| {reconstruction} | cube, h = {size} | {r['cells']} "
+                      f"| {float(r['e']):.4g} "
+                      f"| {float(r['energy_error']):.4g} "
+                      f"| {float(r['e']) / float(r['energy_error']):.3f} "
+                      f"| {float(r['estimate_seconds']):.2f} |", flush=True)
+        print("\n| reconstruction | case | tetrahedra | eps % | eps_ex % "
+              "| effectivity | estimate s |")
+        print("|---|---|---:|---:|---:|---:|---:|")
+        for reconstruction in args.reconstructions:
+            prm, out = write_case(
+                "block-3d.prm",
+                {"Number of cycles": args.block_cycles,
+                 "Mesh/Initial refinements": 0,
+                 "Error estimator/Enable": "true",
+                 "Error estimator/Stress reconstruction": reconstruction,
+                 "Reference solution/Extra refinements": 2,
+                 "Output/Write vtu": "false", "Output/Print timing": "false"},
+                workdir)
+            for r in rows(exe, prm, out):
+                print(f"| {reconstruction} | 3D block | {r['cells']} "
+                      f"| {100 * float(r['eps']):.3f} "
+                      f"| {100 * float(r['eps_ex']):.3f} "
+                      f"| {float(r['effectivity']):.3f} "
+                      f"| {float(r['estimate_seconds']):.2f} |", flush=True)
 
 if __name__ == "__main__":
     main()

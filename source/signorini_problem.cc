@@ -21,10 +21,11 @@ namespace Signorini
                       "Space dimension of the problem. In 3D: the generated "
                       "block (extruded) or Gmsh meshes of tetrahedra, the "
                       "contact with both conditions and solvers, the "
-                      "star-patch estimate, uniform cycles or adapted meshes "
-                      "by remeshing; the element equilibration and the "
-                      "refinement and bisection of adapted meshes are 2D "
-                      "only and refuse 3 by name.");
+                      "estimate (element equilibration with displacement "
+                      "element fields, or star patch), uniform cycles or "
+                      "adapted meshes by remeshing; the Johnson-Mercier "
+                      "element fields and the refinement and bisection of "
+                      "adapted meshes are 2D only and refuse 3 by name.");
   }
 
 

@@ -53,9 +53,10 @@ case_prm() {
 
 printf 'not a mesh\n' > "$work/garbage.msh"
 
-# Dimension: read first; 3 reaches the parts that are 2D only, which say so
+# Dimension: read first; 3 with the defaults builds the 3D block, which
+# nothing holds
 printf 'set Dimension = 3\nset Output directory = %s/out\n' "$work" > "$work/dim3.prm"
-check "Dimension = 3" "Dimension = 3: Error estimator/Stress reconstruction = element equilibration is implemented in 2D only" \
+check "Dimension = 3" "Dimension = 3: the body is free to move" \
   "$work/dim3.prm"
 printf 'set Dimension = 3\nset Output directory = %s/out\nsubsection Mesh\n  set Block subdivisions = 4, 3\nend\n' "$work" > "$work/dim3-subdivisions.prm"
 check "Dimension = 3, two subdivisions" "Dimension = 3: parameter file .*: line 4: Mesh/Block subdivisions: The entry value 4, 3" \
@@ -1130,6 +1131,22 @@ cube_case "3D: geometry of a square" "square.geo as meshed by Gmsh> contains no 
   printf '    set Local degree = 3\n  end\nend\n'; } > "$work/cube.prm"
 check "3D: star patch of degree 3" \
   "Error estimator/Star patch/Local degree = 3: at most 2 on tetrahedra" "$work/cube.prm"
+# the element equilibration on tetrahedra: displacement element problems of
+# degree >= 3 and the enhanced or least squares densities only.
+# eet_case NAME EXPECTED ENTRY VALUE
+eet_case() {
+  { cube_prm "$cube"; printf 'subsection Error estimator\n  set Enable = true\n'
+    printf '  subsection Element equilibration\n    set %s = %s\n  end\nend\n' "$3" "$4"; } > "$work/cube.prm"
+  check "$1" "$2" "$work/cube.prm"
+}
+eet_case "3D: Johnson-Mercier element fields" \
+  "Element stress = equilibrated (Johnson-Mercier fields) is written for triangles" "Element stress" equilibrated
+eet_case "3D: minimised densities" \
+  "Traction densities = minimised is written for triangles" "Traction densities" minimised
+eet_case "3D: element problems of degree 2" \
+  "Local degree must be at least 3 on tetrahedra" "Local degree" 2
+eet_case "3D: element problems of degree 5" \
+  "Local degree is at most 4 on tetrahedra" "Local degree" 5
 cube_case "3D: geometry that calls Exit" \
   "Mesh/File name: geometry file <$work/exit.geo>: Gmsh ended the program" "$work/exit.geo"
 # adapted meshes of tetrahedra: remeshing only, with a geometry of a volume

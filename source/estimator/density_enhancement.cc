@@ -441,7 +441,10 @@ namespace Signorini
         const double step_decrease = 0.5 * residual_product * step;
         result.decrease += step_decrease;
         ++result.iterations;
-        if (step_decrease <= tolerance * result.decrease)
+        // (a decrease at the level of round-off ends it whatever the
+        // tolerance: beyond, the directions are noise that breaks the
+        // equilibrium of the elements)
+        if (step_decrease <= std::max(tolerance, 1e-13) * result.decrease)
           break;
         precondition(residual, preconditioned);
         const double new_product = residual * preconditioned;

@@ -14,6 +14,7 @@
 #include <signorini/estimator/element_equilibration.h>
 #include <signorini/estimator/johnson_mercier_element.h>
 #include <signorini/estimator/local_loops.h>
+#include <signorini/estimator/simplex_element_equilibration.h>
 #include <signorini/estimator/vertex_patches.h>
 #include <signorini/input_error.h>
 #include <signorini/registry.h>
@@ -1760,9 +1761,15 @@ namespace Signorini
     element_stress_names()
     {
       using ElementStress = typename ElementEquilibration<dim>::ElementStress;
+      // (the first is the default: on tetrahedra only the displacement
+      // problems are written)
       static const NamedValues<ElementStress> names(
-        {{"equilibrated", ElementStress::equilibrated, ""},
-         {"displacement", ElementStress::displacement, ""}});
+        dim == 2 ? NamedValues<ElementStress>(
+                     {{"equilibrated", ElementStress::equilibrated, ""},
+                      {"displacement", ElementStress::displacement, ""}}) :
+                   NamedValues<ElementStress>(
+                     {{"displacement", ElementStress::displacement, ""},
+                      {"equilibrated", ElementStress::equilibrated, ""}}));
       return names;
     }
   } // namespace
@@ -1777,7 +1784,8 @@ namespace Signorini
                       "3",
                       Patterns::Integer(2, 6),
                       "Polynomial degree p + k of the element problems "
-                      "(p = 1; the paper's k = 2 or 3).");
+                      "(p = 1; the paper's k = 2 or 3; 3 or 4 on "
+                      "tetrahedra).");
     prm.declare_entry("Traction densities",
                       traction_densities_names<dim>().default_name(),
                       Patterns::Selection(
@@ -1789,7 +1797,7 @@ namespace Signorini
                       "extra sparse global solve), or 'enhanced': the error "
                       "measure minimised under element equilibrium only "
                       "(weak prolongation condition, vertex-patch "
-                      "preconditioned CG).");
+                      "preconditioned CG; minimised: triangles only).");
     prm.declare_entry("Element stress",
                       element_stress_names<dim>().default_name(),
                       Patterns::Selection(
@@ -1798,18 +1806,27 @@ namespace Signorini
                       "'displacement' (Neumann problem of degree Local "
                       "degree, the paper) or 'equilibrated' (Johnson-Mercier "
                       "field, exactly statically admissible: e is a "
-                      "guaranteed bound, doc/estimator.md).");
+                      "guaranteed bound, doc/estimator.md; triangles only).");
+    // (on tetrahedra the edge patches precondition less well than the
+    // vertex patches on triangles: more iterations, doc/estimator.md)
     prm.declare_entry("Enhancement iterations",
-                      "50",
-                      Patterns::Integer(0, 1000),
+                      dim == 2 ? "50" : "200",
+                      Patterns::Integer(0, 10000),
                       "Largest number of conjugate gradient iterations of "
                       "the enhanced densities (every iterate is admissible).");
     prm.declare_entry("Enhancement tolerance",
-                      "1e-4",
+                      dim == 2 ? "1e-4" : "1e-6",
                       Patterns::Double(0., 1.),
                       "Stop the enhancement when an iteration decreases the "
                       "error measure by at most this fraction of the "
                       "decrease so far.");
+    prm.declare_entry("Simplex implementation",
+                      "false",
+                      Patterns::Bool(),
+                      "On triangles, compute with the dimension-independent "
+                      "implementation written for tetrahedra (edge or vertex "
+                      "patches, displacement element problems): a cross-check "
+                      "of the two.");
   }
 
 
@@ -1823,7 +1840,39 @@ namespace Signorini
         element_stress_names<dim>().value(prm.get("Element stress")))
     , enhancement_iterations(prm.get_integer("Enhancement iterations"))
     , enhancement_tolerance(prm.get_double("Enhancement tolerance"))
-  {}
+    , simplex_implementation(prm.get_bool("Simplex implementation"))
+  {
+    if (simplex_implementation && element_stress == ElementStress::equilibrated)
+      throw InputError(
+        "Error estimator/Element equilibration/Simplex implementation = true "
+        "computes displacement element problems: set Element stress = "
+        "displacement");
+    if (simplex_implementation &&
+        traction_densities == TractionDensities::minimised)
+      throw InputError(
+        "Error estimator/Element equilibration/Simplex implementation = true "
+        "has no minimised densities: choose enhanced or least squares");
+    if (dim == 3 && element_stress == ElementStress::equilibrated)
+      throw InputError(
+        "Error estimator/Element equilibration/Element stress = "
+        "equilibrated (Johnson-Mercier fields) is written for triangles; on "
+        "tetrahedra choose displacement");
+    if (dim == 3 && traction_densities == TractionDensities::minimised)
+      throw InputError(
+        "Error estimator/Element equilibration/Traction densities = "
+        "minimised is written for triangles; on tetrahedra choose enhanced "
+        "or least squares");
+    if (dim == 3 && local_degree < 3)
+      throw InputError(
+        "Error estimator/Element equilibration/Local degree must be at "
+        "least 3 on tetrahedra (below, some linear face densities do no "
+        "work on the element's displacements)");
+    if ((dim == 3 || simplex_implementation) && local_degree > 4)
+      throw InputError(
+        "Error estimator/Element equilibration/Local degree is at most 4 on "
+        "tetrahedra and with Simplex implementation (the quadrature of the "
+        "element problems)");
+  }
 
 
 
@@ -1846,6 +1895,14 @@ namespace Signorini
   {
     static_assert(dim == 2,
                   "the element equilibration is written for triangles");
+    if (simplex_implementation)
+      {
+        compute_on_simplices(input,
+                             admissible_displacement,
+                             error_squared,
+                             sum_squared);
+        return;
+      }
     const auto &triangulation = input.dof_handler.get_triangulation();
     AssertThrow(!triangulation.has_hanging_nodes(),
                 ExcMessage(
@@ -1935,17 +1992,43 @@ namespace Signorini
 
 
 
-  // the construction above is written for triangles: 3D is refused by name
-  // (the registry does so before; this is for a direct construction)
+  template <int dim>
+  void
+  ElementEquilibration<dim>::compute_on_simplices(
+    const EquilibrationInput<dim> &input,
+    const LA::Vector              &admissible_displacement,
+    Vector<double>                &error_squared,
+    Vector<double>                &sum_squared)
+  {
+    SimplexEquilibrationSettings settings;
+    settings.degree = local_degree;
+    settings.max_iterations =
+      (traction_densities == TractionDensities::enhanced) ?
+        enhancement_iterations :
+        0;
+    settings.tolerance = enhancement_tolerance;
+    const SimplexEquilibrationChecks checks =
+      compute_simplex_element_equilibration(
+        input, admissible_displacement, settings, error_squared, sum_squared);
+    this->max_condition_defect   = checks.prolongation;
+    this->max_equilibrium_defect = checks.equilibrium;
+  }
+
+
+  // on tetrahedra: the same steps, written for any simplex
   template <>
   void
-  ElementEquilibration<3>::compute(const EquilibrationInput<3> &,
-                                   const LA::Vector &,
-                                   Vector<double> &,
-                                   Vector<double> &)
+  ElementEquilibration<3>::compute(const EquilibrationInput<3> &input,
+                                   const LA::Vector &admissible_displacement,
+                                   Vector<double>   &error_squared,
+                                   Vector<double>   &sum_squared)
   {
-    throw InputError(reconstruction_is_2d_only("element equilibration"));
+    compute_on_simplices(input,
+                         admissible_displacement,
+                         error_squared,
+                         sum_squared);
   }
+
 
   template class ElementEquilibration<2>;
   template class ElementEquilibration<3>;

@@ -34,17 +34,18 @@ namespace Signorini
    * Meshes with hanging nodes are not supported (the adaptation builds
    * conforming meshes).
    *
-   * Written for triangles only: the class exists in 3D (so that the
-   * registry declares the same parameters) but is refused there by name
-   * (is_implemented, StressReconstruction::registry()) and its compute()
-   * throws.
+   * On tetrahedra the same steps are those of
+   * compute_simplex_element_equilibration(): displacement element problems
+   * and the enhancement preconditioned by edge patches; the
+   * Johnson-Mercier fields and the minimised densities are written for
+   * triangles and refused there by name.
    */
   template <int dim>
   class ElementEquilibration : public StressReconstruction<dim>
   {
   public:
-    /// Whether compute() is implemented in dimension @p dim (triangles).
-    static constexpr bool is_implemented = (dim == 2);
+    /// Whether compute() is implemented in dimension @p dim (both).
+    static constexpr bool is_implemented = true;
 
     /// The choice of the free parameters of the traction densities
     /// ("Traction densities").
@@ -101,10 +102,20 @@ namespace Signorini
     unsigned int enhancement_iterations;
     /// Its stopping tolerance ("Enhancement tolerance").
     double enhancement_tolerance;
+    /// Whether triangles are computed by compute_on_simplices() too
+    /// ("Simplex implementation").
+    bool simplex_implementation;
+
+    /// The steps with compute_simplex_element_equilibration() (tetrahedra,
+    /// and triangles with "Simplex implementation").
+    void
+    compute_on_simplices(const EquilibrationInput<dim> &input,
+                         const LA::Vector              &admissible_displacement,
+                         Vector<double>                &error_squared,
+                         Vector<double>                &sum_squared);
   };
 
-  /// In 3D: throws an InputError (the construction is written for
-  /// triangles).
+  /// In 3D: compute_simplex_element_equilibration().
   template <>
   void
   ElementEquilibration<3>::compute(const EquilibrationInput<3> &input,

@@ -1,0 +1,79 @@
+#ifndef signorini_estimator_simplex_element_equilibration_h
+#define signorini_estimator_simplex_element_equilibration_h
+
+#include <deal.II/lac/vector.h>
+
+#include <signorini/estimator/stress_reconstruction.h>
+#include <signorini/linear_algebra.h>
+
+namespace Signorini
+{
+  using namespace dealii;
+
+  /// How compute_simplex_element_equilibration() builds sigma^.
+  struct SimplexEquilibrationSettings
+  {
+    /// p + k, the degree of the element problems (at least 2; 3 in 3D, where
+    /// degree 2 leaves some linear face densities without work).
+    unsigned int degree = 3;
+    /// Largest number of conjugate gradient iterations of the enhancement
+    /// (0: the classical densities).
+    unsigned int max_iterations = 50;
+    /// Stop when an iteration decreases J by at most this fraction of the
+    /// decrease so far.
+    double tolerance = 1e-4;
+  };
+
+  /// What compute_simplex_element_equilibration() measured.
+  struct SimplexEquilibrationChecks
+  {
+    /// Largest relative defect of the prolongation condition of the
+    /// classical densities (round-off if correct).
+    double prolongation = 0.;
+    /// Largest relative defect of the equilibrium (resultant and moment) of
+    /// the data of an element problem (round-off if correct).
+    double equilibrium = 0.;
+    /// The decrease of J = 1/2 sum_E ||sigma^_E - K eps(U^)||^2 in each
+    /// iteration of the enhancement (positive).
+    std::vector<double> measure;
+  };
+
+  /**
+   * The element equilibration technique with enhanced densities on triangles
+   * and tetrahedra alike (doc/estimator.md), the construction "element
+   * equilibration" uses on tetrahedra:
+   *
+   * 1. classical traction densities, linear on every face, from the
+   *    prolongation condition int_dE F^_E phi_i = int_E sigma_h : eps(phi_i)
+   *    - int_E f_d phi_i (one small system per vertex and component, its
+   *    least squares solution towards the averaged finite element tractions;
+   *    F^ = F_d on loaded faces, R^ on GC, free on the Dirichlet
+   *    components);
+   * 2. the enhancement (weak prolongation condition, Pled, Chamoin and
+   *    Ladeveze 2012): sweeps over the vertex patches, each of which
+   *    re-chooses all nodal values of the densities of the faces through its
+   *    vertex so as to minimise sum_E ||sigma^_E - K eps(U^)||^2 over its
+   *    elements under the equilibrium of each of them alone. Patches of
+   *    vertices that share no edge share no element, so the vertices are
+   *    coloured and each colour is computed in parallel (threads and ranks):
+   *    the result does not depend on their numbers. sigma^ is statically
+   *    admissible after any number of sweeps;
+   * 3. sigma^_E = K eps(v) from the Neumann problem of each element with
+   *    its data, in complete polynomials of degree settings.degree (rigid
+   *    motions removed), and the terms of e [14].
+   *
+   * Fills @p error_squared and @p sum_squared as
+   * StressReconstruction::compute() does (the cells this rank owns), on a
+   * conforming mesh held whole by every rank.
+   */
+  template <int dim>
+  SimplexEquilibrationChecks
+  compute_simplex_element_equilibration(
+    const EquilibrationInput<dim>      &input,
+    const LA::Vector                   &admissible_displacement,
+    const SimplexEquilibrationSettings &settings,
+    Vector<double>                     &error_squared,
+    Vector<double>                     &sum_squared);
+} // namespace Signorini
+
+#endif

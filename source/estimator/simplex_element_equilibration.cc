@@ -1,0 +1,1577 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parallel.h>
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <signorini/estimator/simplex_element_equilibration.h>
+#include <signorini/estimator/small_matrices.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+namespace Signorini
+{
+  namespace
+  {
+    constexpr unsigned int invalid = numbers::invalid_unsigned_int;
+
+    /// The number of rigid motions of R^dim.
+    template <int dim>
+    constexpr unsigned int n_rigid = (dim * (dim + 1)) / 2;
+
+    /// Component @p c at @p x of rigid motion @p k (translations, then
+    /// rotations), about @p centre in units of @p size.
+    template <int dim>
+    double
+    rigid_motion(const unsigned int k,
+                 const Point<dim>  &x,
+                 const Point<dim>  &centre,
+                 const double       size,
+                 const unsigned int c)
+    {
+      if (k < dim)
+        return (c == k) ? 1. : 0.;
+      static constexpr unsigned int planes[3][2] = {{0, 1}, {1, 2}, {0, 2}};
+      const unsigned int a = planes[k - dim][0], b = planes[k - dim][1];
+      return (c == a) ? -(x[b] - centre[b]) / size :
+             (c == b) ? (x[a] - centre[a]) / size :
+                        0.;
+    }
+
+    /**
+     * The conforming simplex mesh, held whole by every rank: the vertices and
+     * faces of each cell and the cells of each face (faces are numbered
+     * compactly here). A face's densities are the tractions on its first
+     * cell (the one of lower active cell index), at its vertices in the
+     * face's own order, so every cell and rank reads them the same way.
+     */
+    template <int dim>
+    struct SimplexMesh
+    {
+      explicit SimplexMesh(const Triangulation<dim> &triangulation)
+        : vertices(triangulation.get_vertices())
+        , cell_vertices(triangulation.n_active_cells())
+        , cell_faces(triangulation.n_active_cells())
+        , subdomain(triangulation.n_active_cells())
+        , owned(triangulation.n_active_cells())
+        , cells_of_vertex(triangulation.n_vertices())
+      {
+        std::vector<unsigned int> compact(triangulation.n_raw_faces(), invalid);
+        for (const auto &cell : triangulation.active_cell_iterators())
+          {
+            const unsigned int index = cell->active_cell_index();
+            subdomain[index]         = cell->subdomain_id();
+            owned[index]             = cell->is_locally_owned();
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                cell_vertices[index][v] = cell->vertex_index(v);
+                cells_of_vertex[cell->vertex_index(v)].push_back(index);
+              }
+            for (const unsigned int f : cell->face_indices())
+              {
+                const auto face = cell->face(f);
+                if (compact[face->index()] == invalid)
+                  {
+                    compact[face->index()] = face_cells.size();
+                    face_cells.push_back({{index, invalid}});
+                    std::array<unsigned int, dim> corners;
+                    for (unsigned int k = 0; k < dim; ++k)
+                      corners[k] = face->vertex_index(k);
+                    face_vertices.push_back(corners);
+                    face_boundary.push_back(
+                      face->at_boundary() ? face->boundary_id() :
+                                            numbers::internal_face_boundary_id);
+                    face_measure.push_back(simplex_face_measure(corners));
+                  }
+                else
+                  face_cells[compact[face->index()]][1] = index;
+                cell_faces[index][f] = compact[face->index()];
+              }
+          }
+      }
+
+      /// The area (3D) or length (2D) of the face with these corners.
+      double
+      simplex_face_measure(const std::array<unsigned int, dim> &corners) const
+      {
+        if constexpr (dim == 2)
+          return vertices[corners[0]].distance(vertices[corners[1]]);
+        else
+          return 0.5 *
+                 cross_product_3d(vertices[corners[1]] - vertices[corners[0]],
+                                  vertices[corners[2]] - vertices[corners[0]])
+                   .norm();
+      }
+
+      /// +1 if the densities of @p face are the tractions on @p cell.
+      double
+      sign(const unsigned int face, const unsigned int cell) const
+      {
+        return (face_cells[face][0] == cell) ? 1. : -1.;
+      }
+
+      /// Whether vertex @p vertex is a corner of face @p face; its position.
+      unsigned int
+      corner(const unsigned int face, const unsigned int vertex) const
+      {
+        for (unsigned int k = 0; k < dim; ++k)
+          if (face_vertices[face][k] == vertex)
+            return k;
+        return invalid;
+      }
+
+      /// The triangulation's vertices.
+      const std::vector<Point<dim>> &vertices;
+      /// By active cell index: its vertices, in the cell's order.
+      std::vector<std::array<unsigned int, dim + 1>> cell_vertices;
+      /// By active cell index: its faces, in the cell's order.
+      std::vector<std::array<unsigned int, dim + 1>> cell_faces;
+      /// By active cell index: its subdomain (the rank that owns it).
+      std::vector<types::subdomain_id> subdomain;
+      /// By active cell index: whether this rank owns it.
+      std::vector<bool> owned;
+      /// By vertex: the cells around it, in increasing index.
+      std::vector<std::vector<unsigned int>> cells_of_vertex;
+      /// By face: its vertices.
+      std::vector<std::array<unsigned int, dim>> face_vertices;
+      /// By face: its first and second cell (invalid on the boundary).
+      std::vector<std::array<unsigned int, 2>> face_cells;
+      /// By face: its boundary id (internal_face_boundary_id inside).
+      std::vector<types::boundary_id> face_boundary;
+      /// By face: its area (3D) or length (2D).
+      std::vector<double> face_measure;
+    };
+
+    /**
+     * The hinges of the enhancement's patches: the vertices of a triangle
+     * mesh, the edges of a tetrahedral one; for each, the cells around it and
+     * whether this rank computes its patch (the lowest subdomain among
+     * these cells is this rank's).
+     */
+    template <int dim>
+    struct Hinges
+    {
+      Hinges(const SimplexMesh<dim> &mesh, const unsigned int rank)
+        : mesh(mesh)
+      {
+        if constexpr (dim == 2)
+          for (unsigned int v = 0; v < mesh.cells_of_vertex.size(); ++v)
+            {
+              if (mesh.cells_of_vertex[v].empty())
+                continue;
+              vertices.push_back({{v, v}});
+              cells.push_back(mesh.cells_of_vertex[v]);
+            }
+        else
+          {
+            // the edges, numbered by their first vertex, then second
+            for (unsigned int v = 0; v < mesh.cells_of_vertex.size(); ++v)
+              {
+                std::vector<unsigned int> neighbours;
+                for (const unsigned int cell : mesh.cells_of_vertex[v])
+                  for (const unsigned int w : mesh.cell_vertices[cell])
+                    if (w > v)
+                      neighbours.push_back(w);
+                std::sort(neighbours.begin(), neighbours.end());
+                neighbours.erase(std::unique(neighbours.begin(),
+                                             neighbours.end()),
+                                 neighbours.end());
+                for (const unsigned int w : neighbours)
+                  {
+                    std::vector<unsigned int> around;
+                    for (const unsigned int cell : mesh.cells_of_vertex[v])
+                      {
+                        const auto &corners = mesh.cell_vertices[cell];
+                        if (std::find(corners.begin(), corners.end(), w) !=
+                            corners.end())
+                          around.push_back(cell);
+                      }
+                    vertices.push_back({{v, w}});
+                    cells.push_back(around);
+                  }
+              }
+          }
+        computes.resize(vertices.size());
+        for (unsigned int h = 0; h < vertices.size(); ++h)
+          {
+            types::subdomain_id lowest = numbers::invalid_subdomain_id;
+            for (const unsigned int cell : cells[h])
+              lowest = std::min(lowest, mesh.subdomain[cell]);
+            computes[h] = (lowest == rank);
+          }
+      }
+
+      /// The number of hinges.
+      unsigned int
+      size() const
+      {
+        return vertices.size();
+      }
+
+      /// The number of hinge @p hinge among the dim hinges of face @p face
+      /// (2D: its corner; 3D: the corner opposite the edge).
+      unsigned int
+      position_in_face(const unsigned int hinge, const unsigned int face) const
+      {
+        if (vertices[hinge][0] == vertices[hinge][1])
+          return mesh.corner(face, vertices[hinge][0]);
+        else
+          {
+            const unsigned int a = mesh.corner(face, vertices[hinge][0]);
+            const unsigned int b = mesh.corner(face, vertices[hinge][1]);
+            return 3 - a - b;
+          }
+      }
+
+      /// Whether face @p face contains hinge @p hinge.
+      bool
+      in_face(const unsigned int hinge, const unsigned int face) const
+      {
+        return mesh.corner(face, vertices[hinge][0]) != invalid &&
+               mesh.corner(face, vertices[hinge][1]) != invalid;
+      }
+
+      const SimplexMesh<dim> &mesh;
+      /// The vertices of each hinge (twice the vertex in 2D).
+      std::vector<std::array<unsigned int, 2>> vertices;
+      /// The cells around each hinge, in increasing index.
+      std::vector<std::vector<unsigned int>> cells;
+      /// Whether this rank computes the patch of each hinge.
+      std::vector<bool> computes;
+    };
+
+    /// Slot of face @p face, corner @p k, component @p c in the vector of
+    /// all densities (or of their projections).
+    template <int dim>
+    unsigned int
+    slot(const unsigned int face, const unsigned int k, const unsigned int c)
+    {
+      return (face * dim + k) * dim + c;
+    }
+
+    /**
+     * A symmetric matrix stored by its lower triangle (the element Hessians:
+     * the conjugate gradients stream them once per iteration, so their
+     * memory is their time).
+     */
+    class PackedSymmetric
+    {
+    public:
+      PackedSymmetric() = default;
+
+      explicit PackedSymmetric(const FullMatrix<double> &matrix)
+        : n(matrix.m())
+        , values(n * (n + 1) / 2)
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j <= i; ++j)
+            values[i * (i + 1) / 2 + j] = 0.5 * (matrix(i, j) + matrix(j, i));
+      }
+
+      double
+      operator()(const unsigned int i, const unsigned int j) const
+      {
+        return (i >= j) ? values[i * (i + 1) / 2 + j] :
+                          values[j * (j + 1) / 2 + i];
+      }
+
+      /// y += A x
+      void
+      vmult_add(Vector<double> &y, const Vector<double> &x) const
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double *row = &values[i * (i + 1) / 2];
+            double        sum = 0.;
+            for (unsigned int j = 0; j < i; ++j)
+              {
+                sum += row[j] * x[j];
+                y[j] += row[j] * x[i];
+              }
+            y[i] += sum + row[i] * x[i];
+          }
+      }
+
+      /// x^T A x
+      double
+      norm_square(const Vector<double> &x) const
+      {
+        Vector<double> y(n);
+        vmult_add(y, x);
+        return y * x;
+      }
+
+    private:
+      /// The size.
+      unsigned int n = 0;
+      /// Row i holds the entries (i, 0..i), at i (i + 1) / 2.
+      std::vector<double> values;
+    };
+
+    /// The values per element: (dim + 1) faces, dim corners, dim components.
+    template <int dim>
+    constexpr unsigned int n_element_values = (dim + 1) * (dim * dim);
+
+    /// The affine geometry of a simplex.
+    template <int dim>
+    struct CellGeometry
+    {
+      CellGeometry(const SimplexMesh<dim> &mesh, const unsigned int cell)
+      {
+        for (unsigned int v = 0; v <= dim; ++v)
+          x[v] = mesh.vertices[mesh.cell_vertices[cell][v]];
+        Tensor<2, dim> jacobian;
+        for (unsigned int k = 1; k <= dim; ++k)
+          for (unsigned int i = 0; i < dim; ++i)
+            jacobian[i][k - 1] = x[k][i] - x[0][i];
+        determinant                  = std::abs(dealii::determinant(jacobian));
+        measure                      = determinant / (dim == 2 ? 2. : 6.);
+        const Tensor<2, dim> inverse = invert(jacobian);
+        grad_hat[0]                  = Tensor<1, dim>();
+        for (unsigned int k = 1; k <= dim; ++k)
+          {
+            for (unsigned int i = 0; i < dim; ++i)
+              grad_hat[k][i] = inverse[k - 1][i];
+            grad_hat[0] -= grad_hat[k];
+          }
+        centre = Point<dim>();
+        size   = 0.;
+        for (unsigned int v = 0; v <= dim; ++v)
+          {
+            centre += x[v] / (dim + 1.);
+            for (unsigned int w = 0; w < v; ++w)
+              size = std::max(size, x[v].distance(x[w]));
+          }
+        for (unsigned int f = 0; f <= dim; ++f)
+          {
+            const unsigned int face     = mesh.cell_faces[cell][f];
+            unsigned int       opposite = 0;
+            while (mesh.corner(face, mesh.cell_vertices[cell][opposite]) !=
+                   invalid)
+              ++opposite;
+            // the hat of the opposite vertex grows inwards
+            normal[f] = -grad_hat[opposite] / grad_hat[opposite].norm();
+          }
+      }
+
+      /// The point of barycentric coordinates (1 - sum xi, xi).
+      Point<dim>
+      point(const Point<dim> &xi) const
+      {
+        Point<dim> p = x[0];
+        for (unsigned int k = 1; k <= dim; ++k)
+          p += xi[k - 1] * (x[k] - x[0]);
+        return p;
+      }
+
+      /// The vertices, in the cell's order.
+      std::array<Point<dim>, dim + 1> x;
+      /// The gradients of their hat functions.
+      std::array<Tensor<1, dim>, dim + 1> grad_hat;
+      /// The outward unit normal of each face, in the cell's order.
+      std::array<Tensor<1, dim>, dim + 1> normal;
+      /// |det J| of the affine map from the reference simplex, the measure,
+      /// the longest edge.
+      double determinant, measure, size;
+      /// The centroid.
+      Point<dim> centre;
+    };
+
+    /// int_G phi_k l for the hat of corner @p k of a face of @p measure and
+    /// the linear function l of values @p values at its corners.
+    template <int dim>
+    double
+    hat_times_linear(const double                   measure,
+                     const unsigned int             k,
+                     const std::array<double, dim> &values)
+    {
+      double sum = values[k];
+      for (unsigned int m = 0; m < dim; ++m)
+        sum += values[m];
+      return measure * sum / (dim * (dim + 1.));
+    }
+
+    /**
+     * The displacements of the element problems: vector polynomials of
+     * degree 1 to p in coordinates centred on the cell and scaled by its
+     * size, without the rigid motions (the linear part is spanned by the
+     * dim (dim + 1) / 2 pure strains), so that the stiffness is definite.
+     */
+    template <int dim>
+    class ElementSpace
+    {
+    public:
+      /// The largest degree written out.
+      static constexpr unsigned int max_degree = 6;
+
+      explicit ElementSpace(const unsigned int degree)
+        : degree(degree)
+      {
+        AssertThrow(degree >= 1 && degree <= max_degree,
+                    ExcMessage("element problems of degree 1 to 6"));
+        // the linear pure strains: x_a e_a, and x_b e_a + x_a e_b
+        for (unsigned int a = 0; a < dim; ++a)
+          for (unsigned int b = a; b < dim; ++b)
+            {
+              std::vector<Term>             terms;
+              std::array<unsigned int, dim> exponent{};
+              exponent[b] = 1;
+              terms.push_back({a, exponent});
+              if (a != b)
+                {
+                  exponent    = {};
+                  exponent[a] = 1;
+                  terms.push_back({b, exponent});
+                }
+              basis.push_back(terms);
+            }
+        for (unsigned int total = 2; total <= degree; ++total)
+          for (const auto &exponent : exponents(total))
+            for (unsigned int c = 0; c < dim; ++c)
+              basis.push_back({{c, exponent}});
+      }
+
+      unsigned int
+      size() const
+      {
+        return basis.size();
+      }
+
+      /// Values and strains of the basis at @p x of a cell of @p centre and
+      /// @p size.
+      void
+      evaluate(const Point<dim>                     &x,
+               const Point<dim>                     &centre,
+               const double                          size,
+               std::vector<Tensor<1, dim>>          &values,
+               std::vector<SymmetricTensor<2, dim>> &strains) const
+      {
+        const Tensor<1, dim> y = (x - centre) / size;
+        // powers[d][e] = y_d^e, and e y_d^(e - 1) / size
+        std::array<std::array<double, max_degree + 1>, dim> powers, slopes;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            powers[d][0] = 1.;
+            slopes[d][0] = 0.;
+            for (unsigned int e = 1; e <= degree; ++e)
+              {
+                powers[d][e] = powers[d][e - 1] * y[d];
+                slopes[d][e] = e * powers[d][e - 1] / size;
+              }
+          }
+        values.resize(basis.size());
+        strains.resize(basis.size());
+        for (unsigned int j = 0; j < basis.size(); ++j)
+          {
+            values[j] = Tensor<1, dim>();
+            Tensor<2, dim> gradient;
+            for (const auto &term : basis[j])
+              {
+                double value = 1.;
+                for (unsigned int d = 0; d < dim; ++d)
+                  value *= powers[d][term.exponent[d]];
+                values[j][term.component] += value;
+                for (unsigned int e = 0; e < dim; ++e)
+                  {
+                    double slope = slopes[e][term.exponent[e]];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      if (d != e)
+                        slope *= powers[d][term.exponent[d]];
+                    gradient[term.component][e] += slope;
+                  }
+              }
+            strains[j] = symmetrize(gradient);
+          }
+      }
+
+    private:
+      /// u_c = prod_d y_d^exponent_d
+      struct Term
+      {
+        unsigned int                  component;
+        std::array<unsigned int, dim> exponent;
+      };
+
+      /// The exponents of the monomials of degree @p total.
+      static std::vector<std::array<unsigned int, dim>>
+      exponents(const unsigned int total)
+      {
+        std::vector<std::array<unsigned int, dim>> result;
+        if constexpr (dim == 2)
+          for (unsigned int i = 0; i <= total; ++i)
+            result.push_back({{i, total - i}});
+        else
+          for (unsigned int i = 0; i <= total; ++i)
+            for (unsigned int j = 0; i + j <= total; ++j)
+              result.push_back({{i, j, total - i - j}});
+        return result;
+      }
+
+      const unsigned int             degree;
+      std::vector<std::vector<Term>> basis;
+    };
+
+    /// The data every rank shares: per cell sigma_h and eps(U^).
+    template <int dim>
+    struct CellStrains
+    {
+      /// By active cell index: sigma_h (constant on P1 cells).
+      std::vector<SymmetricTensor<2, dim>> sigma_h;
+      /// By active cell index: eps(U^).
+      std::vector<SymmetricTensor<2, dim>> admissible_strain;
+    };
+
+    /// sigma_h and eps(U^) on every cell (each rank evaluates its own and
+    /// the sum over ranks completes them: every entry has one contribution).
+    template <int dim>
+    CellStrains<dim>
+    cell_strains(const EquilibrationInput<dim> &input,
+                 const LA::Vector              &admissible_displacement)
+    {
+      const auto        &triangulation = input.dof_handler.get_triangulation();
+      const unsigned int n_cells       = triangulation.n_active_cells();
+      constexpr unsigned int n_entries =
+        SymmetricTensor<2, dim>::n_independent_components;
+      std::vector<double>              local(2 * n_entries * n_cells, 0.);
+      const FEValuesExtractors::Vector displacement(0);
+      FEValues<dim>                    values(input.mapping,
+                           input.dof_handler.get_fe(),
+                           QGaussSimplex<dim>(1),
+                           update_gradients);
+      std::vector<Tensor<2, dim>>      gradient(1);
+      for (const auto &cell : input.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            values.reinit(cell);
+            const unsigned int index = cell->active_cell_index();
+            values[displacement].get_function_gradients(
+              input.equilibrated_displacement, gradient);
+            const SymmetricTensor<2, dim> sigma_h =
+              input.material.stress(symmetrize(gradient[0]));
+            values[displacement].get_function_gradients(admissible_displacement,
+                                                        gradient);
+            const SymmetricTensor<2, dim> strain = symmetrize(gradient[0]);
+            for (unsigned int e = 0; e < n_entries; ++e)
+              {
+                const auto entry =
+                  SymmetricTensor<2, dim>::unrolled_to_component_indices(e);
+                local[(2 * index) * n_entries + e]     = sigma_h[entry];
+                local[(2 * index + 1) * n_entries + e] = strain[entry];
+              }
+          }
+      const MPI_Comm      communicator = triangulation.get_communicator();
+      std::vector<double> all(local.size());
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1)
+        Utilities::MPI::sum(local, communicator, all);
+      else
+        all.swap(local);
+      CellStrains<dim> result;
+      result.sigma_h.resize(n_cells);
+      result.admissible_strain.resize(n_cells);
+      for (unsigned int index = 0; index < n_cells; ++index)
+        for (unsigned int e = 0; e < n_entries; ++e)
+          {
+            const auto entry =
+              SymmetricTensor<2, dim>::unrolled_to_component_indices(e);
+            result.sigma_h[index][entry] = all[(2 * index) * n_entries + e];
+            result.admissible_strain[index][entry] =
+              all[(2 * index + 1) * n_entries + e];
+          }
+      return result;
+    }
+
+    /// Sum @p values over the ranks, in place (every entry has at most one
+    /// nonzero contribution, so the sum is exact and rank independent).
+    void
+    sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator)
+    {
+      if (Utilities::MPI::n_mpi_processes(communicator) == 1)
+        return;
+      std::vector<double> sums(values.size());
+      Utilities::MPI::sum(values, communicator, sums);
+      values.swap(sums);
+    }
+
+    /**
+     * The Neumann problem of one element: stiffness K (Cholesky factor),
+     * the work L of the densities (n x n_element_values, signs included),
+     * of the body force l_f and of K eps(U^), a_U.
+     */
+    template <int dim>
+    struct ElementSystem
+    {
+      /// The Cholesky factor of K (SmallMatrices::cholesky()).
+      FullMatrix<double> factor;
+      /// L
+      FullMatrix<double> load;
+      /// l_f
+      Vector<double> body;
+      /// a_U: int K eps(U^) : eps(v_j)
+      Vector<double> admissible;
+    };
+
+    /// The rules of the element problems (degree 3 or 4: exact for the
+    /// stiffness and the work of the linear densities).
+    template <int dim>
+    struct Rules
+    {
+      explicit Rules(const unsigned int degree)
+        : cell(degree)
+        , face(face_rule(3))
+      {
+        reference_face = 0.;
+        for (unsigned int q = 0; q < face.size(); ++q)
+          reference_face += face.weight(q);
+      }
+
+      static Quadrature<dim - 1>
+      face_rule(const unsigned int n_points)
+      {
+        if constexpr (dim == 2)
+          return QGauss<dim - 1>(n_points);
+        else
+          return QGaussSimplex<dim - 1>(n_points);
+      }
+
+      /// The point on face @p corners of reference coordinates @p eta and
+      /// the values of the corners' hats there.
+      static Point<dim>
+      face_point(const std::array<Point<dim>, dim> &corners,
+                 const Point<dim - 1>              &eta,
+                 std::array<double, dim>           &hats)
+      {
+        hats[0] = 1.;
+        for (unsigned int k = 1; k < dim; ++k)
+          {
+            hats[k] = eta[k - 1];
+            hats[0] -= eta[k - 1];
+          }
+        Point<dim> p;
+        for (unsigned int k = 0; k < dim; ++k)
+          p += hats[k] * corners[k];
+        return p;
+      }
+
+      /// On the cell: exact to degree 2 degree - 1.
+      QGaussSimplex<dim> cell;
+      /// On a face: exact to degree 5.
+      Quadrature<dim - 1> face;
+      /// The sum of the face rule's weights (the reference face's measure).
+      double reference_face;
+    };
+
+    template <int dim>
+    ElementSystem<dim>
+    element_system(const SimplexMesh<dim>        &mesh,
+                   const CellGeometry<dim>       &geometry,
+                   const unsigned int             cell,
+                   const ElementSpace<dim>       &space,
+                   const Rules<dim>              &rules,
+                   const EquilibrationInput<dim> &input,
+                   const SymmetricTensor<2, dim> &admissible_stress)
+    {
+      const unsigned int n = space.size();
+      ElementSystem<dim> system;
+      FullMatrix<double> stiffness(n, n);
+      system.load.reinit(n, n_element_values<dim>);
+      system.body.reinit(n);
+      system.admissible.reinit(n);
+
+      std::vector<Tensor<1, dim>>          values;
+      std::vector<SymmetricTensor<2, dim>> strains, stresses(n);
+      std::vector<Point<dim>>              points(rules.cell.size());
+      for (unsigned int q = 0; q < rules.cell.size(); ++q)
+        points[q] = geometry.point(rules.cell.point(q));
+      std::vector<Vector<double>> body_force(points.size(),
+                                             Vector<double>(dim));
+      if (input.boundary_conditions.body_force)
+        input.boundary_conditions.body_force->vector_value_list(points,
+                                                                body_force);
+      for (unsigned int q = 0; q < rules.cell.size(); ++q)
+        {
+          const double JxW = rules.cell.weight(q) * geometry.determinant;
+          space.evaluate(
+            points[q], geometry.centre, geometry.size, values, strains);
+          for (unsigned int j = 0; j < n; ++j)
+            stresses[j] = input.material.stress(strains[j]);
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              for (unsigned int k = 0; k <= j; ++k)
+                stiffness(j, k) += stresses[j] * strains[k] * JxW;
+              system.admissible[j] += admissible_stress * strains[j] * JxW;
+              for (unsigned int c = 0; c < dim; ++c)
+                system.body[j] += body_force[q][c] * values[j][c] * JxW;
+            }
+        }
+      for (unsigned int j = 0; j < n; ++j)
+        for (unsigned int k = 0; k < j; ++k)
+          stiffness(k, j) = stiffness(j, k);
+
+      for (unsigned int f = 0; f <= dim; ++f)
+        {
+          const unsigned int          face = mesh.cell_faces[cell][f];
+          const double                sign = mesh.sign(face, cell);
+          std::array<Point<dim>, dim> corners;
+          for (unsigned int k = 0; k < dim; ++k)
+            corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
+          const double scale = mesh.face_measure[face] / rules.reference_face;
+          std::array<double, dim> hats;
+          for (unsigned int q = 0; q < rules.face.size(); ++q)
+            {
+              const Point<dim> x =
+                Rules<dim>::face_point(corners, rules.face.point(q), hats);
+              space.evaluate(
+                x, geometry.centre, geometry.size, values, strains);
+              const double JxW = rules.face.weight(q) * scale * sign;
+              for (unsigned int j = 0; j < n; ++j)
+                for (unsigned int k = 0; k < dim; ++k)
+                  for (unsigned int c = 0; c < dim; ++c)
+                    system.load(j, (f * dim + k) * dim + c) +=
+                      hats[k] * values[j][c] * JxW;
+            }
+        }
+      system.factor = stiffness;
+      AssertThrow(SmallMatrices::cholesky(system.factor, 1e-14),
+                  ExcMessage("an element problem of the element "
+                             "equilibration is singular (a degenerate cell?)"));
+      return system;
+    }
+
+    /// Solve L L^T x = b in place with the factor of SmallMatrices::cholesky.
+    void
+    cholesky_solve(const FullMatrix<double> &factor, Vector<double> &b)
+    {
+      const unsigned int n = factor.m();
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          double value = b[i];
+          for (unsigned int k = 0; k < i; ++k)
+            value -= factor(i, k) * b[k];
+          b[i] = value / factor(i, i);
+        }
+      for (unsigned int i = n; i-- > 0;)
+        {
+          double value = b[i];
+          for (unsigned int k = i + 1; k < n; ++k)
+            value -= factor(k, i) * b[k];
+          b[i] = value / factor(i, i);
+        }
+    }
+
+    /// The element's densities (slot values) from the vector of all.
+    template <int dim>
+    Vector<double>
+    element_densities(const SimplexMesh<dim>    &mesh,
+                      const unsigned int         cell,
+                      const std::vector<double> &densities)
+    {
+      Vector<double> values(n_element_values<dim>);
+      for (unsigned int f = 0; f <= dim; ++f)
+        for (unsigned int k = 0; k < dim; ++k)
+          for (unsigned int c = 0; c < dim; ++c)
+            values[(f * dim + k) * dim + c] =
+              densities[slot<dim>(mesh.cell_faces[cell][f], k, c)];
+      return values;
+    }
+
+    /**
+     * int_dE (s F) . r_k for the rigid motions r_k of the cell (rows) and the
+     * element's density values (columns): the equilibrium of the element
+     * with its densities is rows . d + int_E f . r_k = 0.
+     */
+    template <int dim>
+    FullMatrix<double>
+    rigid_work(const SimplexMesh<dim>  &mesh,
+               const CellGeometry<dim> &geometry,
+               const unsigned int       cell)
+    {
+      FullMatrix<double> work(n_rigid<dim>, n_element_values<dim>);
+      for (unsigned int f = 0; f <= dim; ++f)
+        {
+          const unsigned int face = mesh.cell_faces[cell][f];
+          const double       sign = mesh.sign(face, cell);
+          for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                std::array<double, dim> corner_values;
+                for (unsigned int m = 0; m < dim; ++m)
+                  corner_values[m] = rigid_motion<dim>(
+                    r,
+                    mesh.vertices[mesh.face_vertices[face][m]],
+                    geometry.centre,
+                    geometry.size,
+                    c);
+                for (unsigned int k = 0; k < dim; ++k)
+                  work(r, (f * dim + k) * dim + c) =
+                    sign * hat_times_linear<dim>(mesh.face_measure[face],
+                                                 k,
+                                                 corner_values);
+              }
+        }
+      return work;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  SimplexEquilibrationChecks
+  compute_simplex_element_equilibration(
+    const EquilibrationInput<dim>      &input,
+    const LA::Vector                   &admissible_displacement,
+    const SimplexEquilibrationSettings &settings,
+    Vector<double>                     &error_squared,
+    Vector<double>                     &sum_squared)
+  {
+    const auto &triangulation = input.dof_handler.get_triangulation();
+    AssertThrow(!triangulation.has_hanging_nodes(),
+                ExcMessage(
+                  "the element equilibration needs a conforming mesh"));
+    const MPI_Comm     communicator = triangulation.get_communicator();
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
+    const unsigned int n_cells = triangulation.n_active_cells();
+    error_squared.reinit(n_cells);
+    sum_squared.reinit(n_cells);
+
+    const SimplexMesh<dim> mesh(triangulation);
+    const CellStrains<dim> strains =
+      cell_strains(input, admissible_displacement);
+    const unsigned int         n_faces = mesh.face_cells.size();
+    const unsigned int         n_slots = n_faces * dim * dim;
+    const auto                &bc      = input.boundary_conditions;
+    const auto                &contact = input.contact_boundary;
+    SimplexEquilibrationChecks checks;
+
+    // the patches this rank computes: those of the vertices whose lowest
+    // subdomain among their cells is this rank's
+    std::vector<bool> computes(triangulation.n_vertices(), false);
+    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+      if (!mesh.cells_of_vertex[v].empty())
+        {
+          types::subdomain_id lowest = numbers::invalid_subdomain_id;
+          for (const unsigned int cell : mesh.cells_of_vertex[v])
+            lowest = std::min(lowest, mesh.subdomain[cell]);
+          computes[v] = (lowest == rank);
+        }
+
+    // which components of each face are free (interior faces; the
+    // Dirichlet components of boundary faces), and the data densities of
+    // the others: F_d (its L2 projection on the linear functions) and R^
+    std::vector<std::array<bool, dim>> free(n_faces);
+    std::vector<double>                densities(n_slots, 0.);
+    {
+      const Rules<dim> rules(settings.degree);
+      for (unsigned int face = 0; face < n_faces; ++face)
+        {
+          const types::boundary_id id = mesh.face_boundary[face];
+          if (id == numbers::internal_face_boundary_id)
+            {
+              free[face].fill(true);
+              continue;
+            }
+          const ComponentMask mask = bc.dirichlet_mask(id);
+          for (unsigned int c = 0; c < dim; ++c)
+            free[face][c] = mask.n_selected_components(dim) > 0 && mask[c];
+          std::array<Point<dim>, dim> corners;
+          for (unsigned int k = 0; k < dim; ++k)
+            corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
+          const double measure = mesh.face_measure[face];
+          if (bc.has_traction(id))
+            {
+              std::vector<Point<dim>> points(rules.face.size());
+              std::vector<double>     hats(rules.face.size() * dim);
+              std::array<double, dim> corner_hats;
+              for (unsigned int q = 0; q < rules.face.size(); ++q)
+                {
+                  points[q] = Rules<dim>::face_point(corners,
+                                                     rules.face.point(q),
+                                                     corner_hats);
+                  for (unsigned int k = 0; k < dim; ++k)
+                    hats[q * dim + k] = corner_hats[k];
+                }
+              std::vector<Vector<double>> traction;
+              bc.traction_values(id, points, traction);
+              // projections b_k = int F_d phi_k, then the linear density
+              // of the same projections: M^-1 b with M = |G| (I + J) /
+              // (dim (dim + 1)), M^-1 = dim (dim + 1) (I - J / (dim + 1)) / |G|
+              for (unsigned int c = 0; c < dim; ++c)
+                {
+                  std::array<double, dim> projection{};
+                  for (unsigned int q = 0; q < rules.face.size(); ++q)
+                    for (unsigned int k = 0; k < dim; ++k)
+                      projection[k] += traction[q][c] * hats[q * dim + k] *
+                                       rules.face.weight(q) * measure /
+                                       rules.reference_face;
+                  double sum = 0.;
+                  for (unsigned int k = 0; k < dim; ++k)
+                    sum += projection[k];
+                  for (unsigned int k = 0; k < dim; ++k)
+                    densities[slot<dim>(face, k, c)] +=
+                      dim * (dim + 1.) * (projection[k] - sum / (dim + 1.)) /
+                      measure;
+                }
+            }
+          if (contact.boundary_ids().count(id) != 0)
+            for (unsigned int k = 0; k < dim; ++k)
+              for (unsigned int c = 0; c < dim; ++c)
+                densities[slot<dim>(face, k, c)] +=
+                  input.normal_reaction[contact.node_index(
+                    mesh.face_vertices[face][k])] *
+                  contact.direction()[c];
+          for (unsigned int c = 0; c < dim; ++c)
+            if (free[face][c])
+              for (unsigned int k = 0; k < dim; ++k)
+                densities[slot<dim>(face, k, c)] = 0.;
+        }
+    }
+
+    // 1. the classical densities: per vertex i and component c, the
+    //    projections b_G(i) = int_G F phi_i of the faces through i satisfy
+    //    sum_G s(E, G) b_G(i) = Q_E = int_E sigma_h : eps(phi_i e_c) - int_E
+    //    f_c phi_i on every cell E around i; the free ones are the least
+    //    squares solution towards the averaged FE tractions
+    std::vector<double> projections(n_slots, 0.);
+    {
+      // (the rule of the element problems: the element data are then in
+      // equilibrium to round-off whatever f_d)
+      const Rules<dim>          rules(settings.degree);
+      const QGaussSimplex<dim> &quadrature = rules.cell;
+      std::mutex                mutex;
+      // (relative to the largest term of all patches)
+      double     largest_defect = 0., largest_scale = 0.;
+      const auto classical_patch = [&](const unsigned int vertex) {
+        const auto        &cells = mesh.cells_of_vertex[vertex];
+        const unsigned int n     = cells.size();
+        // the faces through the vertex, and Q_E for every component
+        std::vector<unsigned int>            faces;
+        std::vector<std::array<double, dim>> q_values(n);
+        std::vector<std::array<double, dim>> scale(n);
+        for (unsigned int e = 0; e < n; ++e)
+          {
+            const unsigned int      cell = cells[e];
+            const CellGeometry<dim> geometry(mesh, cell);
+            unsigned int            a = 0;
+            while (mesh.cell_vertices[cell][a] != vertex)
+              ++a;
+            const Tensor<1, dim> traction =
+              strains.sigma_h[cell] * geometry.grad_hat[a];
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                q_values[e][c] = traction[c] * geometry.measure;
+                scale[e][c]    = std::abs(q_values[e][c]);
+              }
+            if (bc.body_force)
+              {
+                std::vector<Point<dim>> points(quadrature.size());
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  points[q] = geometry.point(quadrature.point(q));
+                std::vector<Vector<double>> force(points.size(),
+                                                  Vector<double>(dim));
+                bc.body_force->vector_value_list(points, force);
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  {
+                    // the hat of local vertex a at reference point xi
+                    const Point<dim> &xi  = quadrature.point(q);
+                    double            hat = 1.;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      hat -= xi[d];
+                    if (a > 0)
+                      hat = xi[a - 1];
+                    for (unsigned int c = 0; c < dim; ++c)
+                      {
+                        const double term = force[q][c] * hat *
+                                            quadrature.weight(q) *
+                                            geometry.determinant;
+                        q_values[e][c] -= term;
+                        scale[e][c] += std::abs(term);
+                      }
+                  }
+              }
+            for (unsigned int f = 0; f <= dim; ++f)
+              {
+                const unsigned int face = mesh.cell_faces[cell][f];
+                if (mesh.corner(face, vertex) != invalid &&
+                    std::find(faces.begin(), faces.end(), face) == faces.end())
+                  faces.push_back(face);
+              }
+          }
+        const unsigned int n_faces_here = faces.size();
+        // A: s(E, G) for the faces of E through the vertex
+        FullMatrix<double> incidence(n, n_faces_here);
+        for (unsigned int e = 0; e < n; ++e)
+          for (unsigned int g = 0; g < n_faces_here; ++g)
+            {
+              const auto &fc = mesh.face_cells[faces[g]];
+              if (fc[0] == cells[e] || fc[1] == cells[e])
+                incidence(e, g) = mesh.sign(faces[g], cells[e]);
+            }
+        double defect = 0., defect_scale = 0.;
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            // data faces to the right-hand side; the averaged FE tractions
+            // of the free ones
+            Vector<double>    rhs(n), average(n_faces_here);
+            std::vector<bool> is_free(n_faces_here);
+            bool              free_boundary = false;
+            for (unsigned int g = 0; g < n_faces_here; ++g)
+              {
+                const unsigned int face = faces[g];
+                const unsigned int k    = mesh.corner(face, vertex);
+                is_free[g]              = free[face][c];
+                if (is_free[g])
+                  {
+                    const auto             &fc = mesh.face_cells[face];
+                    const CellGeometry<dim> first(mesh, fc[0]);
+                    unsigned int            f = 0;
+                    while (mesh.cell_faces[fc[0]][f] != face)
+                      ++f;
+                    SymmetricTensor<2, dim> stress = strains.sigma_h[fc[0]];
+                    if (fc[1] != invalid)
+                      stress = 0.5 * (stress + strains.sigma_h[fc[1]]);
+                    else
+                      free_boundary = true;
+                    average[g] = (stress * first.normal[f])[c] *
+                                 mesh.face_measure[face] / dim;
+                  }
+                else
+                  {
+                    std::array<double, dim> corner_values;
+                    for (unsigned int m = 0; m < dim; ++m)
+                      corner_values[m] = densities[slot<dim>(face, m, c)];
+                    const double data =
+                      hat_times_linear<dim>(mesh.face_measure[face],
+                                            k,
+                                            corner_values);
+                    projections[slot<dim>(face, k, c)] = data;
+                    for (unsigned int e = 0; e < n; ++e)
+                      if (incidence(e, g) != 0.)
+                        {
+                          rhs[e] -= incidence(e, g) * data;
+                          scale[e][c] += std::abs(data);
+                        }
+                  }
+              }
+            for (unsigned int e = 0; e < n; ++e)
+              rhs[e] += q_values[e][c];
+            // b = average + A^T lambda, A A^T lambda = rhs - A average
+            Vector<double>     residual(rhs);
+            FullMatrix<double> normal(n, n);
+            for (unsigned int e = 0; e < n; ++e)
+              {
+                for (unsigned int g = 0; g < n_faces_here; ++g)
+                  if (is_free[g])
+                    residual[e] -= incidence(e, g) * average[g];
+                for (unsigned int l = 0; l < n; ++l)
+                  for (unsigned int g = 0; g < n_faces_here; ++g)
+                    if (is_free[g])
+                      normal(e, l) += incidence(e, g) * incidence(l, g);
+              }
+            // without a free boundary face the sum of the rows vanishes
+            // (and so does that of the right-hand side: R(phi_i e_c) = 0),
+            // cells without a free face have empty rows: make it definite
+            // without changing A^T lambda
+            for (unsigned int e = 0; e < n; ++e)
+              {
+                if (normal(e, e) == 0.)
+                  normal(e, e) = 1.;
+                if (!free_boundary)
+                  for (unsigned int l = 0; l < n; ++l)
+                    normal(e, l) += 1.;
+              }
+            FullMatrix<double> factor(normal);
+            Vector<double>     lambda(residual);
+            if (SmallMatrices::cholesky(factor, 1e-13))
+              cholesky_solve(factor, lambda);
+            else
+              {
+                // (a patch of unusual topology) least squares via the
+                // pseudo-inverse
+                LAPACKFullMatrix<double> pseudo(n, n);
+                pseudo = normal;
+                pseudo.compute_inverse_svd(1e-12);
+                pseudo.vmult(lambda, residual);
+              }
+            for (unsigned int g = 0; g < n_faces_here; ++g)
+              if (is_free[g])
+                {
+                  double value = average[g];
+                  for (unsigned int e = 0; e < n; ++e)
+                    value += incidence(e, g) * lambda[e];
+                  projections[slot<dim>(
+                    faces[g], mesh.corner(faces[g], vertex), c)] = value;
+                }
+            // the prolongation condition's defect
+            for (unsigned int e = 0; e < n; ++e)
+              {
+                double value = rhs[e];
+                for (unsigned int g = 0; g < n_faces_here; ++g)
+                  if (is_free[g])
+                    value -= incidence(e, g) *
+                             projections[slot<dim>(
+                               faces[g], mesh.corner(faces[g], vertex), c)];
+                defect       = std::max(defect, std::abs(value));
+                defect_scale = std::max(defect_scale, scale[e][c]);
+              }
+          }
+        std::lock_guard<std::mutex> lock(mutex);
+        largest_defect = std::max(largest_defect, defect);
+        largest_scale  = std::max(largest_scale, defect_scale);
+      };
+      parallel::apply_to_subranges(
+        0u,
+        triangulation.n_vertices(),
+        [&](const unsigned int begin, const unsigned int end) {
+          for (unsigned int v = begin; v < end; ++v)
+            if (computes[v])
+              classical_patch(v);
+        },
+        32);
+      sum_over_ranks(projections, communicator);
+      largest_scale = Utilities::MPI::max(largest_scale, communicator);
+      checks.prolongation =
+        Utilities::MPI::max(largest_defect, communicator) /
+        std::max(largest_scale, std::numeric_limits<double>::min());
+    }
+    // the densities of the free components from their projections: M^-1 b
+    for (unsigned int face = 0; face < n_faces; ++face)
+      for (unsigned int c = 0; c < dim; ++c)
+        if (free[face][c])
+          {
+            double sum = 0.;
+            for (unsigned int k = 0; k < dim; ++k)
+              sum += projections[slot<dim>(face, k, c)];
+            for (unsigned int k = 0; k < dim; ++k)
+              densities[slot<dim>(face, k, c)] =
+                dim * (dim + 1.) *
+                (projections[slot<dim>(face, k, c)] - sum / (dim + 1.)) /
+                mesh.face_measure[face];
+          }
+    projections.clear();
+    projections.shrink_to_fit();
+
+    const ElementSpace<dim> space(settings.degree);
+    const Rules<dim>        rules(settings.degree);
+
+    // the patches of the enhancement: the cells around each hinge, a vertex
+    // in 2D, an edge in 3D (the entities of dimension dim - 2, around which
+    // the changes of densities that keep every element in equilibrium are
+    // generated; Pled et al. 2012 use vertices in 2D)
+    const Hinges<dim> hinges(mesh, rank);
+    std::vector<bool> needed(mesh.owned);
+    if (settings.max_iterations > 0)
+      for (unsigned int h = 0; h < hinges.size(); ++h)
+        if (hinges.computes[h])
+          for (const unsigned int cell : hinges.cells[h])
+            needed[cell] = true;
+
+    // 2. the element problems, as quadratic functions of the densities d_E
+    //    of each element: with w = K^-1 (L d + l_f),
+    //    ||K eps(w) -/+ K eps(U^)||^2_E = d^T H d + 2 g-/+^T d + c-/+,
+    //    H = L^T K^-1 L, g-/+ = L^T K^-1 (l_f -/+ a_U)
+    std::vector<PackedSymmetric> hessian(n_cells);
+    std::vector<Vector<double>>  gradient(n_cells), sum_gradient(n_cells);
+    std::vector<double>          constant(n_cells), sum_constant(n_cells);
+    parallel::apply_to_subranges(
+      0u,
+      n_cells,
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int cell = begin; cell < end; ++cell)
+          if (needed[cell])
+            {
+              const CellGeometry<dim>  geometry(mesh, cell);
+              const ElementSystem<dim> system =
+                element_system(mesh,
+                               geometry,
+                               cell,
+                               space,
+                               rules,
+                               input,
+                               input.material.stress(
+                                 strains.admissible_strain[cell]));
+              const unsigned int n = space.size();
+              FullMatrix<double> solved(n, n_element_values<dim>);
+              Vector<double>     column(n);
+              for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                {
+                  for (unsigned int j = 0; j < n; ++j)
+                    column[j] = system.load(j, a);
+                  cholesky_solve(system.factor, column);
+                  for (unsigned int j = 0; j < n; ++j)
+                    solved(j, a) = column[j];
+                }
+              FullMatrix<double> full(n_element_values<dim>,
+                                      n_element_values<dim>);
+              system.load.Tmmult(full, solved);
+              hessian[cell] = PackedSymmetric(full);
+              Vector<double> data(system.body);
+              data -= system.admissible;
+              gradient[cell].reinit(n_element_values<dim>);
+              solved.Tvmult(gradient[cell], data);
+              data.add(2., system.admissible);
+              sum_gradient[cell].reinit(n_element_values<dim>);
+              solved.Tvmult(sum_gradient[cell], data);
+              // l_f^T w_f -/+ 2 a_U^T w_f + |E| K eps(U^) : eps(U^)
+              Vector<double> body_solution(system.body);
+              cholesky_solve(system.factor, body_solution);
+              const SymmetricTensor<2, dim> &strain =
+                strains.admissible_strain[cell];
+              const double base =
+                (system.body * body_solution) +
+                geometry.measure * (input.material.stress(strain) * strain);
+              constant[cell] = base - 2. * (system.admissible * body_solution);
+              sum_constant[cell] =
+                base + 2. * (system.admissible * body_solution);
+            }
+      },
+      16);
+
+
+    // 3. the enhancement
+    if (settings.max_iterations > 0)
+      {
+        // the patch preconditioner: for each computed hinge, the free slots
+        // of the faces through it, its position among the hinges of each
+        // (its contributions are summed in that order: the same on any
+        // number of ranks and threads) and B with B B^T = Z (Z^T H Z)^-1
+        // Z^T, Z a basis of the changes of these slots keeping every element
+        // of the patch in equilibrium, H the Hessian of J on them
+        struct Patch
+        {
+          std::vector<unsigned int> slots;
+          std::vector<unsigned int> entries;
+          // (row-major; in double precision: the corrections must keep
+          // every element in equilibrium to round-off)
+          std::vector<double> correction;
+          unsigned int        rank = 0;
+        };
+        std::vector<Patch> patch_of(hinges.size());
+        const auto         describe_patch = [&](const unsigned int hinge) {
+          Patch      &patch = patch_of[hinge];
+          const auto &cells = hinges.cells[hinge];
+          std::vector<std::array<int, n_element_values<dim>>> positions(
+            cells.size());
+          for (unsigned int e = 0; e < cells.size(); ++e)
+            for (unsigned int f = 0; f <= dim; ++f)
+              {
+                const unsigned int face = mesh.cell_faces[cells[e]][f];
+                const bool         through = hinges.in_face(hinge, face);
+                for (unsigned int k = 0; k < dim; ++k)
+                  for (unsigned int c = 0; c < dim; ++c)
+                    {
+                      int &position = positions[e][(f * dim + k) * dim + c];
+                      position      = -1;
+                      if (!through || !free[face][c])
+                        continue;
+                      const unsigned int s = slot<dim>(face, k, c);
+                      const auto         it =
+                        std::find(patch.slots.begin(), patch.slots.end(), s);
+                      position = it - patch.slots.begin();
+                      if (it == patch.slots.end())
+                        {
+                          patch.slots.push_back(s);
+                          patch.entries.push_back(
+                            s * dim + hinges.position_in_face(hinge, face));
+                        }
+                    }
+              }
+          const unsigned int n_free = patch.slots.size();
+          if (n_free == 0)
+            return;
+          FullMatrix<double> patch_hessian(n_free, n_free);
+          FullMatrix<double> constraints(n_rigid<dim> * cells.size(), n_free);
+          for (unsigned int e = 0; e < cells.size(); ++e)
+            {
+              const unsigned int       cell = cells[e];
+              const CellGeometry<dim>  geometry(mesh, cell);
+              const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
+              for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                {
+                  const int i = positions[e][a];
+                  if (i < 0)
+                    continue;
+                  for (unsigned int b = 0; b < n_element_values<dim>; ++b)
+                    if (positions[e][b] >= 0)
+                      patch_hessian(i, positions[e][b]) += hessian[cell](a, b);
+                  for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+                    constraints(e * n_rigid<dim> + r, i) = work(r, a);
+                }
+            }
+          const FullMatrix<double> kernel =
+            SmallMatrices::kernel_basis(constraints);
+          const unsigned int m = kernel.n();
+          if (m == 0)
+            return;
+          FullMatrix<double> hz(n_free, m), reduced(m, m);
+          patch_hessian.mmult(hz, kernel);
+          kernel.Tmmult(reduced, hz);
+          double largest = 0.;
+          for (unsigned int i = 0; i < m; ++i)
+            largest = std::max(largest, reduced(i, i));
+          for (unsigned int i = 0; i < m; ++i)
+            reduced(i, i) += 1e-12 * largest;
+          if (!SmallMatrices::cholesky(reduced, 1e-14))
+            return;
+          // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T
+          FullMatrix<double> factor(n_free, m);
+          for (unsigned int i = 0; i < n_free; ++i)
+            for (unsigned int j = 0; j < m; ++j)
+              {
+                double value = kernel(i, j);
+                for (unsigned int k = 0; k < j; ++k)
+                  value -= factor(i, k) * reduced(j, k);
+                factor(i, j) = value / reduced(j, j);
+              }
+          patch.rank = m;
+          patch.correction.resize(n_free * m);
+          for (unsigned int i = 0; i < n_free; ++i)
+            for (unsigned int j = 0; j < m; ++j)
+              patch.correction[i * m + j] = factor(i, j);
+        };
+        std::vector<unsigned int> computed;
+        for (unsigned int h = 0; h < hinges.size(); ++h)
+          if (hinges.computes[h])
+            computed.push_back(h);
+        parallel::apply_to_subranges(
+          0u,
+          static_cast<unsigned int>(computed.size()),
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int p = begin; p < end; ++p)
+              describe_patch(computed[p]);
+          },
+          16);
+
+        // z = sum over the patches of B B^T r (each entry of the
+        // contributions has one source: the sum is rank independent)
+        std::vector<double> contributions(n_slots * dim);
+        const auto          precondition = [&](const std::vector<double> &r,
+                                      std::vector<double>       &z) {
+          std::fill(contributions.begin(), contributions.end(), 0.);
+          parallel::apply_to_subranges(
+            0u,
+            static_cast<unsigned int>(computed.size()),
+            [&](const unsigned int begin, const unsigned int end) {
+              std::vector<double> reduced;
+              for (unsigned int p = begin; p < end; ++p)
+                {
+                  const Patch       &patch = patch_of[computed[p]];
+                  const unsigned int m     = patch.rank;
+                  if (m == 0)
+                    continue;
+                  // B (B^T r)
+                  reduced.assign(m, 0.);
+                  for (unsigned int i = 0; i < patch.slots.size(); ++i)
+                    {
+                      const double  value = r[patch.slots[i]];
+                      const double *row   = &patch.correction[i * m];
+                      for (unsigned int j = 0; j < m; ++j)
+                        reduced[j] += row[j] * value;
+                    }
+                  for (unsigned int i = 0; i < patch.slots.size(); ++i)
+                    {
+                      const double *row   = &patch.correction[i * m];
+                      double        value = 0.;
+                      for (unsigned int j = 0; j < m; ++j)
+                        value += row[j] * reduced[j];
+                      contributions[patch.entries[i]] = value;
+                    }
+                }
+            },
+            16);
+          sum_over_ranks(contributions, communicator);
+          for (unsigned int s = 0; s < n_slots; ++s)
+            {
+              double value = 0.;
+              for (unsigned int k = 0; k < dim; ++k)
+                value += contributions[s * dim + k];
+              z[s] = value;
+            }
+        };
+
+        // y = H x (+ g): the sum of the owned cells' contributions, at
+        // most two per slot (so the sum is rank independent too)
+        std::vector<std::array<unsigned int, 2>> local_face(n_faces);
+        for (unsigned int face = 0; face < n_faces; ++face)
+          for (unsigned int side = 0; side < 2; ++side)
+            {
+              const unsigned int cell = mesh.face_cells[face][side];
+              local_face[face][side]  = invalid;
+              if (cell != invalid)
+                for (unsigned int f = 0; f <= dim; ++f)
+                  if (mesh.cell_faces[cell][f] == face)
+                    local_face[face][side] = f;
+            }
+        std::vector<Vector<double>> cell_products(n_cells);
+        const auto                  multiply = [&](const std::vector<double> &x,
+                                  const bool                 with_gradient,
+                                  std::vector<double>       &y) {
+          parallel::apply_to_subranges(
+            0u,
+            n_cells,
+            [&](const unsigned int begin, const unsigned int end) {
+              for (unsigned int cell = begin; cell < end; ++cell)
+                if (mesh.owned[cell])
+                  {
+                    Vector<double> &product = cell_products[cell];
+                    if (with_gradient)
+                      product = gradient[cell];
+                    else
+                      product.reinit(n_element_values<dim>);
+                    hessian[cell].vmult_add(product,
+                                            element_densities(mesh, cell, x));
+                  }
+            },
+            64);
+          for (unsigned int face = 0; face < n_faces; ++face)
+            for (unsigned int k = 0; k < dim; ++k)
+              for (unsigned int c = 0; c < dim; ++c)
+                {
+                  double value = 0.;
+                  for (unsigned int side = 0; side < 2; ++side)
+                    {
+                      const unsigned int cell = mesh.face_cells[face][side];
+                      if (cell != invalid && mesh.owned[cell])
+                        value += cell_products
+                          [cell][(local_face[face][side] * dim + k) * dim + c];
+                    }
+                  y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
+                }
+          sum_over_ranks(y, communicator);
+        };
+        const auto dot = [](const std::vector<double> &a,
+                            const std::vector<double> &b) {
+          double sum = 0.;
+          for (std::size_t i = 0; i < a.size(); ++i)
+            sum += a[i] * b[i];
+          return sum;
+        };
+
+        // preconditioned conjugate gradients in the changes that keep every
+        // element in equilibrium (each preconditioned residual is a sum of
+        // such changes, so is every direction): every iterate is admissible
+        std::vector<double> residual(n_slots), z(n_slots), direction(n_slots),
+          product(n_slots);
+        multiply(densities, true, residual);
+        for (double &r : residual)
+          r = -r;
+        precondition(residual, z);
+        direction       = z;
+        double rz       = dot(residual, z);
+        double decrease = 0.;
+        for (unsigned int iteration = 0;
+             iteration < settings.max_iterations && rz > 0.;
+             ++iteration)
+          {
+            multiply(direction, false, product);
+            const double curvature = dot(direction, product);
+            if (!(curvature > 0.))
+              break;
+            const double alpha = rz / curvature;
+            for (unsigned int s = 0; s < n_slots; ++s)
+              {
+                densities[s] += alpha * direction[s];
+                residual[s] -= alpha * product[s];
+              }
+            const double step_decrease = 0.5 * alpha * rz;
+            decrease += step_decrease;
+            checks.measure.push_back(step_decrease);
+            // (a decrease at the level of round-off ends it whatever the
+            // tolerance: beyond, the directions are noise)
+            if (step_decrease <= std::max(settings.tolerance, 1e-13) * decrease)
+              break;
+            precondition(residual, z);
+            const double rz_new = dot(residual, z);
+            const double beta   = rz_new / rz;
+            rz                  = rz_new;
+            for (unsigned int s = 0; s < n_slots; ++s)
+              direction[s] = z[s] + beta * direction[s];
+          }
+      }
+
+    // 4. the terms of e [14] per element, and the check of equilibrium [2]
+    std::mutex mutex;
+    double     largest_equilibrium_defect = 0.;
+    parallel::apply_to_subranges(
+      0u,
+      n_cells,
+      [&](const unsigned int begin, const unsigned int end) {
+        double range_defect = 0.;
+        for (unsigned int cell = begin; cell < end; ++cell)
+          if (mesh.owned[cell])
+            {
+              const CellGeometry<dim> geometry(mesh, cell);
+              const Vector<double> d = element_densities(mesh, cell, densities);
+              const double         quadratic = hessian[cell].norm_square(d);
+              // (round-off could make a vanishing error negative)
+              error_squared[cell] =
+                std::max(quadratic + 2. * (gradient[cell] * d) + constant[cell],
+                         0.);
+              sum_squared[cell] =
+                std::max(quadratic + 2. * (sum_gradient[cell] * d) +
+                           sum_constant[cell],
+                         0.);
+
+              // the resultant and moment of the element's data
+              const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
+              std::vector<Point<dim>>  points(rules.cell.size());
+              for (unsigned int q = 0; q < rules.cell.size(); ++q)
+                points[q] = geometry.point(rules.cell.point(q));
+              std::vector<Vector<double>> force(points.size(),
+                                                Vector<double>(dim));
+              if (bc.body_force)
+                bc.body_force->vector_value_list(points, force);
+              for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+                {
+                  double value = 0., scale = 0.;
+                  for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                    {
+                      value += work(r, a) * d[a];
+                      scale += std::abs(work(r, a) * d[a]);
+                    }
+                  for (unsigned int q = 0; q < points.size(); ++q)
+                    for (unsigned int c = 0; c < dim; ++c)
+                      {
+                        const double term =
+                          force[q][c] *
+                          rigid_motion<dim>(
+                            r, points[q], geometry.centre, geometry.size, c) *
+                          rules.cell.weight(q) * geometry.determinant;
+                        value += term;
+                        scale += std::abs(term);
+                      }
+                  if (scale > 0.)
+                    range_defect =
+                      std::max(range_defect, std::abs(value) / scale);
+                }
+            }
+        std::lock_guard<std::mutex> lock(mutex);
+        largest_equilibrium_defect =
+          std::max(largest_equilibrium_defect, range_defect);
+      },
+      64);
+    checks.equilibrium =
+      Utilities::MPI::max(largest_equilibrium_defect, communicator);
+    return checks;
+  }
+
+
+
+  template SimplexEquilibrationChecks
+  compute_simplex_element_equilibration<2>(const EquilibrationInput<2> &,
+                                           const LA::Vector &,
+                                           const SimplexEquilibrationSettings &,
+                                           Vector<double> &,
+                                           Vector<double> &);
+  template SimplexEquilibrationChecks
+  compute_simplex_element_equilibration<3>(const EquilibrationInput<3> &,
+                                           const LA::Vector &,
+                                           const SimplexEquilibrationSettings &,
+                                           Vector<double> &,
+                                           Vector<double> &);
+} // namespace Signorini
