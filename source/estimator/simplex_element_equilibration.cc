@@ -587,8 +587,9 @@ namespace Signorini
       return result;
     }
 
-    /// Sum @p values over the ranks, in place (every entry has at most one
-    /// nonzero contribution, so the sum is exact and rank independent).
+    /// Sum @p values over the ranks, in place (the callers give every entry
+    /// at most two nonzero contributions, whose sum does not depend on
+    /// their order: the result is the same on any number of ranks).
     void
     sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator)
     {
@@ -667,6 +668,8 @@ namespace Signorini
       double reference_face;
     };
 
+    /// The element problem of @p cell (K, L, l_f, a_U for the admissible
+    /// stress K eps(U^) = @p admissible_stress).
     template <int dim>
     ElementSystem<dim>
     element_system(const SimplexMesh<dim>        &mesh,
@@ -817,6 +820,877 @@ namespace Signorini
         }
       return work;
     }
+    /// What the steps read: the input, the mesh, sigma_h and eps(U^), the
+    /// rules and space of the element problems, the free components.
+    template <int dim>
+    struct Context
+    {
+      Context(const EquilibrationInput<dim>      &input,
+              const LA::Vector                   &admissible_displacement,
+              const SimplexEquilibrationSettings &settings)
+        : input(input)
+        , settings(settings)
+        , triangulation(input.dof_handler.get_triangulation())
+        , communicator(triangulation.get_communicator())
+        , rank(Utilities::MPI::this_mpi_process(communicator))
+        , mesh(triangulation)
+        , strains(cell_strains(input, admissible_displacement))
+        , rules(settings.degree)
+        , space(settings.degree)
+        , n_cells(triangulation.n_active_cells())
+        , n_faces(mesh.face_cells.size())
+        , n_slots(n_faces * dim * dim)
+        , free(n_faces)
+      {}
+
+      const EquilibrationInput<dim>      &input;
+      const SimplexEquilibrationSettings &settings;
+      const Triangulation<dim>           &triangulation;
+      const MPI_Comm                      communicator;
+      /// This rank.
+      const unsigned int      rank;
+      const SimplexMesh<dim>  mesh;
+      const CellStrains<dim>  strains;
+      const Rules<dim>        rules;
+      const ElementSpace<dim> space;
+      /// Active cells, faces, density values (slot()).
+      const unsigned int n_cells, n_faces, n_slots;
+      /// By face: the components its densities may change (interior faces:
+      /// all; boundary faces: the Dirichlet ones), set by data_densities().
+      std::vector<std::array<bool, dim>> free;
+    };
+
+    /// The element problems as quadratics (element_quadratics()), by active
+    /// cell index.
+    template <int dim>
+    struct ElementQuadratics
+    {
+      /// H
+      std::vector<PackedSymmetric> hessian;
+      /// g-, g+
+      std::vector<Vector<double>> gradient, sum_gradient;
+      /// c-, c+
+      std::vector<double> constant, sum_constant;
+    };
+
+
+
+    /**
+     * Which components of each face are free (interior faces; the Dirichlet
+     * components of boundary faces), in context.free, and the densities of
+     * the others, returned with zero at the free ones: F_d (its L2
+     * projection on the linear functions) and R^.
+     */
+    template <int dim>
+    std::vector<double>
+    data_densities(Context<dim> &context)
+    {
+      const auto         &input   = context.input;
+      const auto         &bc      = input.boundary_conditions;
+      const auto         &contact = input.contact_boundary;
+      const auto         &mesh    = context.mesh;
+      const auto         &rules   = context.rules;
+      const auto          n_faces = context.n_faces;
+      const auto          n_slots = context.n_slots;
+      auto               &free    = context.free;
+      std::vector<double> densities(n_slots, 0.);
+      {
+        for (unsigned int face = 0; face < n_faces; ++face)
+          {
+            const types::boundary_id id = mesh.face_boundary[face];
+            if (id == numbers::internal_face_boundary_id)
+              {
+                free[face].fill(true);
+                continue;
+              }
+            const ComponentMask mask = bc.dirichlet_mask(id);
+            for (unsigned int c = 0; c < dim; ++c)
+              free[face][c] = mask.n_selected_components(dim) > 0 && mask[c];
+            std::array<Point<dim>, dim> corners;
+            for (unsigned int k = 0; k < dim; ++k)
+              corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
+            const double measure = mesh.face_measure[face];
+            if (bc.has_traction(id))
+              {
+                std::vector<Point<dim>> points(rules.face.size());
+                std::vector<double>     hats(rules.face.size() * dim);
+                std::array<double, dim> corner_hats;
+                for (unsigned int q = 0; q < rules.face.size(); ++q)
+                  {
+                    points[q] = Rules<dim>::face_point(corners,
+                                                       rules.face.point(q),
+                                                       corner_hats);
+                    for (unsigned int k = 0; k < dim; ++k)
+                      hats[q * dim + k] = corner_hats[k];
+                  }
+                std::vector<Vector<double>> traction;
+                bc.traction_values(id, points, traction);
+                // projections b_k = int F_d phi_k, then the linear density
+                // of the same projections: M^-1 b with M = |G| (I + J) /
+                // (dim (dim + 1)), M^-1 = dim (dim + 1) (I - J / (dim + 1)) /
+                // |G|
+                for (unsigned int c = 0; c < dim; ++c)
+                  {
+                    std::array<double, dim> projection{};
+                    for (unsigned int q = 0; q < rules.face.size(); ++q)
+                      for (unsigned int k = 0; k < dim; ++k)
+                        projection[k] += traction[q][c] * hats[q * dim + k] *
+                                         rules.face.weight(q) * measure /
+                                         rules.reference_face;
+                    double sum = 0.;
+                    for (unsigned int k = 0; k < dim; ++k)
+                      sum += projection[k];
+                    for (unsigned int k = 0; k < dim; ++k)
+                      densities[slot<dim>(face, k, c)] +=
+                        dim * (dim + 1.) * (projection[k] - sum / (dim + 1.)) /
+                        measure;
+                  }
+              }
+            if (contact.boundary_ids().count(id) != 0)
+              for (unsigned int k = 0; k < dim; ++k)
+                for (unsigned int c = 0; c < dim; ++c)
+                  densities[slot<dim>(face, k, c)] +=
+                    input.normal_reaction[contact.node_index(
+                      mesh.face_vertices[face][k])] *
+                    contact.direction()[c];
+            for (unsigned int c = 0; c < dim; ++c)
+              if (free[face][c])
+                for (unsigned int k = 0; k < dim; ++k)
+                  densities[slot<dim>(face, k, c)] = 0.;
+          }
+      }
+
+      return densities;
+    }
+
+
+
+    /**
+     * The classical densities at the free components of @p densities: per
+     * vertex i and component c, the projections b_G(i) = int_G F phi_i of
+     * the faces through i satisfy the prolongation condition sum_G s(E, G)
+     * b_G(i) = Q_E = int_E sigma_h : eps(phi_i e_c) - int_E f_c phi_i on
+     * every cell E around i; the free ones are the least squares solution
+     * towards the averaged FE tractions. Returns the largest defect of the
+     * condition relative to its largest term.
+     */
+    template <int dim>
+    double
+    classical_densities(const Context<dim>  &context,
+                        std::vector<double> &densities)
+    {
+      const auto &triangulation = context.triangulation;
+      const auto &bc            = context.input.boundary_conditions;
+      const auto &mesh          = context.mesh;
+      const auto &strains       = context.strains;
+      const auto &rules         = context.rules;
+      const auto &free          = context.free;
+      const auto  communicator  = context.communicator;
+      const auto  n_faces       = context.n_faces;
+      const auto  n_slots       = context.n_slots;
+      double      prolongation  = 0.;
+
+      // the patches this rank computes: those of the vertices whose lowest
+      // subdomain among their cells is this rank's
+      std::vector<bool> computes(triangulation.n_vertices(), false);
+      for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+        if (!mesh.cells_of_vertex[v].empty())
+          {
+            types::subdomain_id lowest = numbers::invalid_subdomain_id;
+            for (const unsigned int cell : mesh.cells_of_vertex[v])
+              lowest = std::min(lowest, mesh.subdomain[cell]);
+            computes[v] = (lowest == context.rank);
+          }
+
+      std::vector<double> projections(n_slots, 0.);
+      {
+        // (the rule of the element problems: the element data are then in
+        // equilibrium to round-off whatever f_d)
+        const QGaussSimplex<dim> &quadrature = rules.cell;
+        std::mutex                mutex;
+        // (relative to the largest term of all patches)
+        double     largest_defect = 0., largest_scale = 0.;
+        const auto classical_patch = [&](const unsigned int vertex) {
+          const auto        &cells = mesh.cells_of_vertex[vertex];
+          const unsigned int n     = cells.size();
+          // the faces through the vertex, and Q_E for every component
+          std::vector<unsigned int>            faces;
+          std::vector<std::array<double, dim>> q_values(n);
+          std::vector<std::array<double, dim>> scale(n);
+          for (unsigned int e = 0; e < n; ++e)
+            {
+              const unsigned int      cell = cells[e];
+              const CellGeometry<dim> geometry(mesh, cell);
+              unsigned int            a = 0;
+              while (mesh.cell_vertices[cell][a] != vertex)
+                ++a;
+              const Tensor<1, dim> traction =
+                strains.sigma_h[cell] * geometry.grad_hat[a];
+              for (unsigned int c = 0; c < dim; ++c)
+                {
+                  q_values[e][c] = traction[c] * geometry.measure;
+                  scale[e][c]    = std::abs(q_values[e][c]);
+                }
+              if (bc.body_force)
+                {
+                  std::vector<Point<dim>> points(quadrature.size());
+                  for (unsigned int q = 0; q < quadrature.size(); ++q)
+                    points[q] = geometry.point(quadrature.point(q));
+                  std::vector<Vector<double>> force(points.size(),
+                                                    Vector<double>(dim));
+                  bc.body_force->vector_value_list(points, force);
+                  for (unsigned int q = 0; q < quadrature.size(); ++q)
+                    {
+                      // the hat of local vertex a at reference point xi
+                      const Point<dim> &xi  = quadrature.point(q);
+                      double            hat = 1.;
+                      for (unsigned int d = 0; d < dim; ++d)
+                        hat -= xi[d];
+                      if (a > 0)
+                        hat = xi[a - 1];
+                      for (unsigned int c = 0; c < dim; ++c)
+                        {
+                          const double term = force[q][c] * hat *
+                                              quadrature.weight(q) *
+                                              geometry.determinant;
+                          q_values[e][c] -= term;
+                          scale[e][c] += std::abs(term);
+                        }
+                    }
+                }
+              for (unsigned int f = 0; f <= dim; ++f)
+                {
+                  const unsigned int face = mesh.cell_faces[cell][f];
+                  if (mesh.corner(face, vertex) != invalid &&
+                      std::find(faces.begin(), faces.end(), face) ==
+                        faces.end())
+                    faces.push_back(face);
+                }
+            }
+          const unsigned int n_faces_here = faces.size();
+          // A: s(E, G) for the faces of E through the vertex
+          FullMatrix<double> incidence(n, n_faces_here);
+          for (unsigned int e = 0; e < n; ++e)
+            for (unsigned int g = 0; g < n_faces_here; ++g)
+              {
+                const auto &fc = mesh.face_cells[faces[g]];
+                if (fc[0] == cells[e] || fc[1] == cells[e])
+                  incidence(e, g) = mesh.sign(faces[g], cells[e]);
+              }
+          double defect = 0., defect_scale = 0.;
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              // data faces to the right-hand side; the averaged FE tractions
+              // of the free ones
+              Vector<double>    rhs(n), average(n_faces_here);
+              std::vector<bool> is_free(n_faces_here);
+              bool              free_boundary = false;
+              for (unsigned int g = 0; g < n_faces_here; ++g)
+                {
+                  const unsigned int face = faces[g];
+                  const unsigned int k    = mesh.corner(face, vertex);
+                  is_free[g]              = free[face][c];
+                  if (is_free[g])
+                    {
+                      const auto             &fc = mesh.face_cells[face];
+                      const CellGeometry<dim> first(mesh, fc[0]);
+                      unsigned int            f = 0;
+                      while (mesh.cell_faces[fc[0]][f] != face)
+                        ++f;
+                      SymmetricTensor<2, dim> stress = strains.sigma_h[fc[0]];
+                      if (fc[1] != invalid)
+                        stress = 0.5 * (stress + strains.sigma_h[fc[1]]);
+                      else
+                        free_boundary = true;
+                      average[g] = (stress * first.normal[f])[c] *
+                                   mesh.face_measure[face] / dim;
+                    }
+                  else
+                    {
+                      std::array<double, dim> corner_values;
+                      for (unsigned int m = 0; m < dim; ++m)
+                        corner_values[m] = densities[slot<dim>(face, m, c)];
+                      const double data =
+                        hat_times_linear<dim>(mesh.face_measure[face],
+                                              k,
+                                              corner_values);
+                      projections[slot<dim>(face, k, c)] = data;
+                      for (unsigned int e = 0; e < n; ++e)
+                        if (incidence(e, g) != 0.)
+                          {
+                            rhs[e] -= incidence(e, g) * data;
+                            scale[e][c] += std::abs(data);
+                          }
+                    }
+                }
+              for (unsigned int e = 0; e < n; ++e)
+                rhs[e] += q_values[e][c];
+              // b = average + A^T lambda, A A^T lambda = rhs - A average
+              Vector<double>     residual(rhs);
+              FullMatrix<double> normal(n, n);
+              for (unsigned int e = 0; e < n; ++e)
+                {
+                  for (unsigned int g = 0; g < n_faces_here; ++g)
+                    if (is_free[g])
+                      residual[e] -= incidence(e, g) * average[g];
+                  for (unsigned int l = 0; l < n; ++l)
+                    for (unsigned int g = 0; g < n_faces_here; ++g)
+                      if (is_free[g])
+                        normal(e, l) += incidence(e, g) * incidence(l, g);
+                }
+              // without a free boundary face the sum of the rows vanishes
+              // (and so does that of the right-hand side: R(phi_i e_c) = 0),
+              // cells without a free face have empty rows: make it definite
+              // without changing A^T lambda
+              for (unsigned int e = 0; e < n; ++e)
+                {
+                  if (normal(e, e) == 0.)
+                    normal(e, e) = 1.;
+                  if (!free_boundary)
+                    for (unsigned int l = 0; l < n; ++l)
+                      normal(e, l) += 1.;
+                }
+              FullMatrix<double> factor(normal);
+              Vector<double>     lambda(residual);
+              if (SmallMatrices::cholesky(factor, 1e-13))
+                cholesky_solve(factor, lambda);
+              else
+                {
+                  // (a patch of unusual topology) least squares via the
+                  // pseudo-inverse
+                  LAPACKFullMatrix<double> pseudo(n, n);
+                  pseudo = normal;
+                  pseudo.compute_inverse_svd(1e-12);
+                  pseudo.vmult(lambda, residual);
+                }
+              for (unsigned int g = 0; g < n_faces_here; ++g)
+                if (is_free[g])
+                  {
+                    double value = average[g];
+                    for (unsigned int e = 0; e < n; ++e)
+                      value += incidence(e, g) * lambda[e];
+                    projections[slot<dim>(
+                      faces[g], mesh.corner(faces[g], vertex), c)] = value;
+                  }
+              // the prolongation condition's defect
+              for (unsigned int e = 0; e < n; ++e)
+                {
+                  double value = rhs[e];
+                  for (unsigned int g = 0; g < n_faces_here; ++g)
+                    if (is_free[g])
+                      value -= incidence(e, g) *
+                               projections[slot<dim>(
+                                 faces[g], mesh.corner(faces[g], vertex), c)];
+                  defect       = std::max(defect, std::abs(value));
+                  defect_scale = std::max(defect_scale, scale[e][c]);
+                }
+            }
+          std::lock_guard<std::mutex> lock(mutex);
+          largest_defect = std::max(largest_defect, defect);
+          largest_scale  = std::max(largest_scale, defect_scale);
+        };
+        parallel::apply_to_subranges(
+          0u,
+          triangulation.n_vertices(),
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int v = begin; v < end; ++v)
+              if (computes[v])
+                classical_patch(v);
+          },
+          32);
+        sum_over_ranks(projections, communicator);
+        largest_scale = Utilities::MPI::max(largest_scale, communicator);
+        prolongation =
+          Utilities::MPI::max(largest_defect, communicator) /
+          std::max(largest_scale, std::numeric_limits<double>::min());
+      }
+      // the densities of the free components from their projections: M^-1 b
+      for (unsigned int face = 0; face < n_faces; ++face)
+        for (unsigned int c = 0; c < dim; ++c)
+          if (free[face][c])
+            {
+              double sum = 0.;
+              for (unsigned int k = 0; k < dim; ++k)
+                sum += projections[slot<dim>(face, k, c)];
+              for (unsigned int k = 0; k < dim; ++k)
+                densities[slot<dim>(face, k, c)] =
+                  dim * (dim + 1.) *
+                  (projections[slot<dim>(face, k, c)] - sum / (dim + 1.)) /
+                  mesh.face_measure[face];
+            }
+      projections.clear();
+      projections.shrink_to_fit();
+
+      return prolongation;
+    }
+
+
+
+    /**
+     * The element problems of the @p needed cells as quadratic functions of
+     * the densities d_E of each: with w = K^-1 (L d + l_f),
+     * ||K eps(w) -/+ K eps(U^)||^2_E = d^T H d + 2 g-/+^T d + c-/+,
+     * H = L^T K^-1 L, g-/+ = L^T K^-1 (l_f -/+ a_U).
+     */
+    template <int dim>
+    ElementQuadratics<dim>
+    element_quadratics(const Context<dim>      &context,
+                       const std::vector<bool> &needed)
+    {
+      const auto            &input   = context.input;
+      const auto            &mesh    = context.mesh;
+      const auto            &strains = context.strains;
+      const auto            &rules   = context.rules;
+      const auto            &space   = context.space;
+      const auto             n_cells = context.n_cells;
+      ElementQuadratics<dim> quadratics;
+      auto                  &hessian      = quadratics.hessian;
+      auto                  &gradient     = quadratics.gradient;
+      auto                  &sum_gradient = quadratics.sum_gradient;
+      auto                  &constant     = quadratics.constant;
+      auto                  &sum_constant = quadratics.sum_constant;
+      hessian.resize(n_cells);
+      gradient.resize(n_cells);
+      sum_gradient.resize(n_cells);
+      constant.resize(n_cells);
+      sum_constant.resize(n_cells);
+      parallel::apply_to_subranges(
+        0u,
+        n_cells,
+        [&](const unsigned int begin, const unsigned int end) {
+          for (unsigned int cell = begin; cell < end; ++cell)
+            if (needed[cell])
+              {
+                const CellGeometry<dim>  geometry(mesh, cell);
+                const ElementSystem<dim> system =
+                  element_system(mesh,
+                                 geometry,
+                                 cell,
+                                 space,
+                                 rules,
+                                 input,
+                                 input.material.stress(
+                                   strains.admissible_strain[cell]));
+                const unsigned int n = space.size();
+                FullMatrix<double> solved(n, n_element_values<dim>);
+                Vector<double>     column(n);
+                for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                  {
+                    for (unsigned int j = 0; j < n; ++j)
+                      column[j] = system.load(j, a);
+                    cholesky_solve(system.factor, column);
+                    for (unsigned int j = 0; j < n; ++j)
+                      solved(j, a) = column[j];
+                  }
+                FullMatrix<double> full(n_element_values<dim>,
+                                        n_element_values<dim>);
+                system.load.Tmmult(full, solved);
+                hessian[cell] = PackedSymmetric(full);
+                Vector<double> data(system.body);
+                data -= system.admissible;
+                gradient[cell].reinit(n_element_values<dim>);
+                solved.Tvmult(gradient[cell], data);
+                data.add(2., system.admissible);
+                sum_gradient[cell].reinit(n_element_values<dim>);
+                solved.Tvmult(sum_gradient[cell], data);
+                // l_f^T w_f -/+ 2 a_U^T w_f + |E| K eps(U^) : eps(U^)
+                Vector<double> body_solution(system.body);
+                cholesky_solve(system.factor, body_solution);
+                const SymmetricTensor<2, dim> &strain =
+                  strains.admissible_strain[cell];
+                const double base =
+                  (system.body * body_solution) +
+                  geometry.measure * (input.material.stress(strain) * strain);
+                constant[cell] =
+                  base - 2. * (system.admissible * body_solution);
+                sum_constant[cell] =
+                  base + 2. * (system.admissible * body_solution);
+              }
+        },
+        16);
+
+
+      return quadratics;
+    }
+
+
+
+    /**
+     * The enhancement of @p densities (Pled, Chamoin and Ladeveze 2012):
+     * the conjugate gradient method in the density changes that keep every
+     * element in equilibrium, preconditioned by the patches of the
+     * @p hinges. Returns the decrease of J in each iteration.
+     */
+    template <int dim>
+    std::vector<double>
+    enhance_densities(const Context<dim>           &context,
+                      const Hinges<dim>            &hinges,
+                      const ElementQuadratics<dim> &quadratics,
+                      std::vector<double>          &densities)
+    {
+      const auto         &settings     = context.settings;
+      const auto         &mesh         = context.mesh;
+      const auto         &free         = context.free;
+      const auto         &hessian      = quadratics.hessian;
+      const auto         &gradient     = quadratics.gradient;
+      const auto          communicator = context.communicator;
+      const auto          n_cells      = context.n_cells;
+      const auto          n_faces      = context.n_faces;
+      const auto          n_slots      = context.n_slots;
+      std::vector<double> measure;
+      // the patch preconditioner: for each computed hinge, the free slots
+      // of the faces through it, its position among the hinges of each
+      // (its contributions are summed in that order: the same on any
+      // number of ranks and threads) and B with B B^T = Z (Z^T H Z)^-1
+      // Z^T, Z a basis of the changes of these slots keeping every element
+      // of the patch in equilibrium, H the Hessian of J on them
+      struct Patch
+      {
+        /// The density slots it changes.
+        std::vector<unsigned int> slots;
+        /// For each, its entry in the contributions (slot, hinge in face).
+        std::vector<unsigned int> entries;
+        /// B, row-major (in double precision: the corrections must keep
+        /// every element in equilibrium to round-off).
+        std::vector<double> correction;
+        /// The columns of B: the dimension of the patch's changes.
+        unsigned int n_changes = 0;
+      };
+      std::vector<Patch> patch_of(hinges.size());
+      const auto         describe_patch = [&](const unsigned int hinge) {
+        Patch      &patch = patch_of[hinge];
+        const auto &cells = hinges.cells[hinge];
+        std::vector<std::array<int, n_element_values<dim>>> positions(
+          cells.size());
+        for (unsigned int e = 0; e < cells.size(); ++e)
+          for (unsigned int f = 0; f <= dim; ++f)
+            {
+              const unsigned int face    = mesh.cell_faces[cells[e]][f];
+              const bool         through = hinges.in_face(hinge, face);
+              for (unsigned int k = 0; k < dim; ++k)
+                for (unsigned int c = 0; c < dim; ++c)
+                  {
+                    int &position = positions[e][(f * dim + k) * dim + c];
+                    position      = -1;
+                    if (!through || !free[face][c])
+                      continue;
+                    const unsigned int s = slot<dim>(face, k, c);
+                    const auto         it =
+                      std::find(patch.slots.begin(), patch.slots.end(), s);
+                    position = it - patch.slots.begin();
+                    if (it == patch.slots.end())
+                      {
+                        patch.slots.push_back(s);
+                        patch.entries.push_back(
+                          s * dim + hinges.position_in_face(hinge, face));
+                      }
+                  }
+            }
+        const unsigned int n_free = patch.slots.size();
+        if (n_free == 0)
+          return;
+        FullMatrix<double> patch_hessian(n_free, n_free);
+        FullMatrix<double> constraints(n_rigid<dim> * cells.size(), n_free);
+        for (unsigned int e = 0; e < cells.size(); ++e)
+          {
+            const unsigned int       cell = cells[e];
+            const CellGeometry<dim>  geometry(mesh, cell);
+            const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
+            for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+              {
+                const int i = positions[e][a];
+                if (i < 0)
+                  continue;
+                for (unsigned int b = 0; b < n_element_values<dim>; ++b)
+                  if (positions[e][b] >= 0)
+                    patch_hessian(i, positions[e][b]) += hessian[cell](a, b);
+                for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+                  constraints(e * n_rigid<dim> + r, i) = work(r, a);
+              }
+          }
+        const FullMatrix<double> kernel =
+          SmallMatrices::kernel_basis(constraints);
+        const unsigned int m = kernel.n();
+        if (m == 0)
+          return;
+        FullMatrix<double> hz(n_free, m), reduced(m, m);
+        patch_hessian.mmult(hz, kernel);
+        kernel.Tmmult(reduced, hz);
+        double largest = 0.;
+        for (unsigned int i = 0; i < m; ++i)
+          largest = std::max(largest, reduced(i, i));
+        for (unsigned int i = 0; i < m; ++i)
+          reduced(i, i) += 1e-12 * largest;
+        if (!SmallMatrices::cholesky(reduced, 1e-14))
+          return;
+        // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T
+        FullMatrix<double> factor(n_free, m);
+        for (unsigned int i = 0; i < n_free; ++i)
+          for (unsigned int j = 0; j < m; ++j)
+            {
+              double value = kernel(i, j);
+              for (unsigned int k = 0; k < j; ++k)
+                value -= factor(i, k) * reduced(j, k);
+              factor(i, j) = value / reduced(j, j);
+            }
+        patch.n_changes = m;
+        patch.correction.resize(n_free * m);
+        for (unsigned int i = 0; i < n_free; ++i)
+          for (unsigned int j = 0; j < m; ++j)
+            patch.correction[i * m + j] = factor(i, j);
+      };
+      std::vector<unsigned int> computed;
+      for (unsigned int h = 0; h < hinges.size(); ++h)
+        if (hinges.computes[h])
+          computed.push_back(h);
+      parallel::apply_to_subranges(
+        0u,
+        static_cast<unsigned int>(computed.size()),
+        [&](const unsigned int begin, const unsigned int end) {
+          for (unsigned int p = begin; p < end; ++p)
+            describe_patch(computed[p]);
+        },
+        16);
+
+      // z = sum over the patches of B B^T r (each entry of the
+      // contributions has one source: the sum is rank independent)
+      std::vector<double> contributions(n_slots * dim);
+      const auto          precondition = [&](const std::vector<double> &r,
+                                    std::vector<double>       &z) {
+        std::fill(contributions.begin(), contributions.end(), 0.);
+        parallel::apply_to_subranges(
+          0u,
+          static_cast<unsigned int>(computed.size()),
+          [&](const unsigned int begin, const unsigned int end) {
+            std::vector<double> reduced;
+            for (unsigned int p = begin; p < end; ++p)
+              {
+                const Patch       &patch = patch_of[computed[p]];
+                const unsigned int m     = patch.n_changes;
+                if (m == 0)
+                  continue;
+                // B (B^T r)
+                reduced.assign(m, 0.);
+                for (unsigned int i = 0; i < patch.slots.size(); ++i)
+                  {
+                    const double  value = r[patch.slots[i]];
+                    const double *row   = &patch.correction[i * m];
+                    for (unsigned int j = 0; j < m; ++j)
+                      reduced[j] += row[j] * value;
+                  }
+                for (unsigned int i = 0; i < patch.slots.size(); ++i)
+                  {
+                    const double *row   = &patch.correction[i * m];
+                    double        value = 0.;
+                    for (unsigned int j = 0; j < m; ++j)
+                      value += row[j] * reduced[j];
+                    contributions[patch.entries[i]] = value;
+                  }
+              }
+          },
+          16);
+        sum_over_ranks(contributions, communicator);
+        for (unsigned int s = 0; s < n_slots; ++s)
+          {
+            double value = 0.;
+            for (unsigned int k = 0; k < dim; ++k)
+              value += contributions[s * dim + k];
+            z[s] = value;
+          }
+      };
+
+      // y = H x (+ g): the sum of the owned cells' contributions, at
+      // most two per slot (so the sum is rank independent too)
+      std::vector<std::array<unsigned int, 2>> local_face(n_faces);
+      for (unsigned int face = 0; face < n_faces; ++face)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            const unsigned int cell = mesh.face_cells[face][side];
+            local_face[face][side]  = invalid;
+            if (cell != invalid)
+              for (unsigned int f = 0; f <= dim; ++f)
+                if (mesh.cell_faces[cell][f] == face)
+                  local_face[face][side] = f;
+          }
+      std::vector<Vector<double>> cell_products(n_cells);
+      const auto                  multiply = [&](const std::vector<double> &x,
+                                const bool                 with_gradient,
+                                std::vector<double>       &y) {
+        parallel::apply_to_subranges(
+          0u,
+          n_cells,
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int cell = begin; cell < end; ++cell)
+              if (mesh.owned[cell])
+                {
+                  Vector<double> &product = cell_products[cell];
+                  if (with_gradient)
+                    product = gradient[cell];
+                  else
+                    product.reinit(n_element_values<dim>);
+                  hessian[cell].vmult_add(product,
+                                          element_densities(mesh, cell, x));
+                }
+          },
+          64);
+        for (unsigned int face = 0; face < n_faces; ++face)
+          for (unsigned int k = 0; k < dim; ++k)
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                double value = 0.;
+                for (unsigned int side = 0; side < 2; ++side)
+                  {
+                    const unsigned int cell = mesh.face_cells[face][side];
+                    if (cell != invalid && mesh.owned[cell])
+                      value +=
+                        cell_products[cell]
+                                     [(local_face[face][side] * dim + k) * dim +
+                                      c];
+                  }
+                y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
+              }
+        sum_over_ranks(y, communicator);
+      };
+      const auto dot = [](const std::vector<double> &a,
+                          const std::vector<double> &b) {
+        double sum = 0.;
+        for (std::size_t i = 0; i < a.size(); ++i)
+          sum += a[i] * b[i];
+        return sum;
+      };
+
+      // preconditioned conjugate gradients in the changes that keep every
+      // element in equilibrium (each preconditioned residual is a sum of
+      // such changes, so is every direction): every iterate is admissible
+      std::vector<double> residual(n_slots), z(n_slots), direction(n_slots),
+        product(n_slots);
+      multiply(densities, true, residual);
+      for (double &r : residual)
+        r = -r;
+      precondition(residual, z);
+      direction       = z;
+      double rz       = dot(residual, z);
+      double decrease = 0.;
+      for (unsigned int iteration = 0;
+           iteration < settings.max_iterations && rz > 0.;
+           ++iteration)
+        {
+          multiply(direction, false, product);
+          const double curvature = dot(direction, product);
+          if (!(curvature > 0.))
+            break;
+          const double alpha = rz / curvature;
+          for (unsigned int s = 0; s < n_slots; ++s)
+            {
+              densities[s] += alpha * direction[s];
+              residual[s] -= alpha * product[s];
+            }
+          const double step_decrease = 0.5 * alpha * rz;
+          decrease += step_decrease;
+          measure.push_back(step_decrease);
+          // (a decrease at the level of round-off ends it whatever the
+          // tolerance: beyond, the directions are noise)
+          if (step_decrease <= std::max(settings.tolerance, 1e-13) * decrease)
+            break;
+          precondition(residual, z);
+          const double rz_new = dot(residual, z);
+          const double beta   = rz_new / rz;
+          rz                  = rz_new;
+          for (unsigned int s = 0; s < n_slots; ++s)
+            direction[s] = z[s] + beta * direction[s];
+        }
+
+      return measure;
+    }
+
+
+
+    /**
+     * The terms of e [14] of the cells this rank owns, from their
+     * quadratics at @p densities; returns the largest relative defect of
+     * the equilibrium [2] (resultant and moment) of an element's data.
+     */
+    template <int dim>
+    double
+    element_errors(const Context<dim>           &context,
+                   const ElementQuadratics<dim> &quadratics,
+                   const std::vector<double>    &densities,
+                   Vector<double>               &error_squared,
+                   Vector<double>               &sum_squared)
+    {
+      const auto &bc           = context.input.boundary_conditions;
+      const auto &mesh         = context.mesh;
+      const auto &rules        = context.rules;
+      const auto &hessian      = quadratics.hessian;
+      const auto &gradient     = quadratics.gradient;
+      const auto &sum_gradient = quadratics.sum_gradient;
+      const auto &constant     = quadratics.constant;
+      const auto &sum_constant = quadratics.sum_constant;
+      const auto  communicator = context.communicator;
+      const auto  n_cells      = context.n_cells;
+      std::mutex  mutex;
+      double      largest_equilibrium_defect = 0.;
+      parallel::apply_to_subranges(
+        0u,
+        n_cells,
+        [&](const unsigned int begin, const unsigned int end) {
+          double range_defect = 0.;
+          for (unsigned int cell = begin; cell < end; ++cell)
+            if (mesh.owned[cell])
+              {
+                const CellGeometry<dim> geometry(mesh, cell);
+                const Vector<double>    d =
+                  element_densities(mesh, cell, densities);
+                const double quadratic = hessian[cell].norm_square(d);
+                // (round-off could make a vanishing error negative)
+                error_squared[cell] = std::max(
+                  quadratic + 2. * (gradient[cell] * d) + constant[cell], 0.);
+                sum_squared[cell] =
+                  std::max(quadratic + 2. * (sum_gradient[cell] * d) +
+                             sum_constant[cell],
+                           0.);
+
+                // the resultant and moment of the element's data
+                const FullMatrix<double> work =
+                  rigid_work(mesh, geometry, cell);
+                std::vector<Point<dim>> points(rules.cell.size());
+                for (unsigned int q = 0; q < rules.cell.size(); ++q)
+                  points[q] = geometry.point(rules.cell.point(q));
+                std::vector<Vector<double>> force(points.size(),
+                                                  Vector<double>(dim));
+                if (bc.body_force)
+                  bc.body_force->vector_value_list(points, force);
+                for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+                  {
+                    double value = 0., scale = 0.;
+                    for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                      {
+                        value += work(r, a) * d[a];
+                        scale += std::abs(work(r, a) * d[a]);
+                      }
+                    for (unsigned int q = 0; q < points.size(); ++q)
+                      for (unsigned int c = 0; c < dim; ++c)
+                        {
+                          const double term =
+                            force[q][c] *
+                            rigid_motion<dim>(
+                              r, points[q], geometry.centre, geometry.size, c) *
+                            rules.cell.weight(q) * geometry.determinant;
+                          value += term;
+                          scale += std::abs(term);
+                        }
+                    if (scale > 0.)
+                      range_defect =
+                        std::max(range_defect, std::abs(value) / scale);
+                  }
+              }
+          std::lock_guard<std::mutex> lock(mutex);
+          largest_equilibrium_defect =
+            std::max(largest_equilibrium_defect, range_defect);
+        },
+        64);
+      return Utilities::MPI::max(largest_equilibrium_defect, communicator);
+    }
   } // namespace
 
 
@@ -830,733 +1704,41 @@ namespace Signorini
     Vector<double>                     &error_squared,
     Vector<double>                     &sum_squared)
   {
-    const auto &triangulation = input.dof_handler.get_triangulation();
-    AssertThrow(!triangulation.has_hanging_nodes(),
+    AssertThrow(!input.dof_handler.get_triangulation().has_hanging_nodes(),
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
-    const MPI_Comm     communicator = triangulation.get_communicator();
-    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
-    const unsigned int n_cells = triangulation.n_active_cells();
-    error_squared.reinit(n_cells);
-    sum_squared.reinit(n_cells);
-
-    const SimplexMesh<dim> mesh(triangulation);
-    const CellStrains<dim> strains =
-      cell_strains(input, admissible_displacement);
-    const unsigned int         n_faces = mesh.face_cells.size();
-    const unsigned int         n_slots = n_faces * dim * dim;
-    const auto                &bc      = input.boundary_conditions;
-    const auto                &contact = input.contact_boundary;
+    Context<dim> context(input, admissible_displacement, settings);
+    error_squared.reinit(context.n_cells);
+    sum_squared.reinit(context.n_cells);
     SimplexEquilibrationChecks checks;
 
-    // the patches this rank computes: those of the vertices whose lowest
-    // subdomain among their cells is this rank's
-    std::vector<bool> computes(triangulation.n_vertices(), false);
-    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-      if (!mesh.cells_of_vertex[v].empty())
-        {
-          types::subdomain_id lowest = numbers::invalid_subdomain_id;
-          for (const unsigned int cell : mesh.cells_of_vertex[v])
-            lowest = std::min(lowest, mesh.subdomain[cell]);
-          computes[v] = (lowest == rank);
-        }
+    // 1. the classical densities
+    std::vector<double> densities = data_densities(context);
+    checks.prolongation           = classical_densities(context, densities);
 
-    // which components of each face are free (interior faces; the
-    // Dirichlet components of boundary faces), and the data densities of
-    // the others: F_d (its L2 projection on the linear functions) and R^
-    std::vector<std::array<bool, dim>> free(n_faces);
-    std::vector<double>                densities(n_slots, 0.);
-    {
-      const Rules<dim> rules(settings.degree);
-      for (unsigned int face = 0; face < n_faces; ++face)
-        {
-          const types::boundary_id id = mesh.face_boundary[face];
-          if (id == numbers::internal_face_boundary_id)
-            {
-              free[face].fill(true);
-              continue;
-            }
-          const ComponentMask mask = bc.dirichlet_mask(id);
-          for (unsigned int c = 0; c < dim; ++c)
-            free[face][c] = mask.n_selected_components(dim) > 0 && mask[c];
-          std::array<Point<dim>, dim> corners;
-          for (unsigned int k = 0; k < dim; ++k)
-            corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
-          const double measure = mesh.face_measure[face];
-          if (bc.has_traction(id))
-            {
-              std::vector<Point<dim>> points(rules.face.size());
-              std::vector<double>     hats(rules.face.size() * dim);
-              std::array<double, dim> corner_hats;
-              for (unsigned int q = 0; q < rules.face.size(); ++q)
-                {
-                  points[q] = Rules<dim>::face_point(corners,
-                                                     rules.face.point(q),
-                                                     corner_hats);
-                  for (unsigned int k = 0; k < dim; ++k)
-                    hats[q * dim + k] = corner_hats[k];
-                }
-              std::vector<Vector<double>> traction;
-              bc.traction_values(id, points, traction);
-              // projections b_k = int F_d phi_k, then the linear density
-              // of the same projections: M^-1 b with M = |G| (I + J) /
-              // (dim (dim + 1)), M^-1 = dim (dim + 1) (I - J / (dim + 1)) / |G|
-              for (unsigned int c = 0; c < dim; ++c)
-                {
-                  std::array<double, dim> projection{};
-                  for (unsigned int q = 0; q < rules.face.size(); ++q)
-                    for (unsigned int k = 0; k < dim; ++k)
-                      projection[k] += traction[q][c] * hats[q * dim + k] *
-                                       rules.face.weight(q) * measure /
-                                       rules.reference_face;
-                  double sum = 0.;
-                  for (unsigned int k = 0; k < dim; ++k)
-                    sum += projection[k];
-                  for (unsigned int k = 0; k < dim; ++k)
-                    densities[slot<dim>(face, k, c)] +=
-                      dim * (dim + 1.) * (projection[k] - sum / (dim + 1.)) /
-                      measure;
-                }
-            }
-          if (contact.boundary_ids().count(id) != 0)
-            for (unsigned int k = 0; k < dim; ++k)
-              for (unsigned int c = 0; c < dim; ++c)
-                densities[slot<dim>(face, k, c)] +=
-                  input.normal_reaction[contact.node_index(
-                    mesh.face_vertices[face][k])] *
-                  contact.direction()[c];
-          for (unsigned int c = 0; c < dim; ++c)
-            if (free[face][c])
-              for (unsigned int k = 0; k < dim; ++k)
-                densities[slot<dim>(face, k, c)] = 0.;
-        }
-    }
-
-    // 1. the classical densities: per vertex i and component c, the
-    //    projections b_G(i) = int_G F phi_i of the faces through i satisfy
-    //    sum_G s(E, G) b_G(i) = Q_E = int_E sigma_h : eps(phi_i e_c) - int_E
-    //    f_c phi_i on every cell E around i; the free ones are the least
-    //    squares solution towards the averaged FE tractions
-    std::vector<double> projections(n_slots, 0.);
-    {
-      // (the rule of the element problems: the element data are then in
-      // equilibrium to round-off whatever f_d)
-      const Rules<dim>          rules(settings.degree);
-      const QGaussSimplex<dim> &quadrature = rules.cell;
-      std::mutex                mutex;
-      // (relative to the largest term of all patches)
-      double     largest_defect = 0., largest_scale = 0.;
-      const auto classical_patch = [&](const unsigned int vertex) {
-        const auto        &cells = mesh.cells_of_vertex[vertex];
-        const unsigned int n     = cells.size();
-        // the faces through the vertex, and Q_E for every component
-        std::vector<unsigned int>            faces;
-        std::vector<std::array<double, dim>> q_values(n);
-        std::vector<std::array<double, dim>> scale(n);
-        for (unsigned int e = 0; e < n; ++e)
-          {
-            const unsigned int      cell = cells[e];
-            const CellGeometry<dim> geometry(mesh, cell);
-            unsigned int            a = 0;
-            while (mesh.cell_vertices[cell][a] != vertex)
-              ++a;
-            const Tensor<1, dim> traction =
-              strains.sigma_h[cell] * geometry.grad_hat[a];
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                q_values[e][c] = traction[c] * geometry.measure;
-                scale[e][c]    = std::abs(q_values[e][c]);
-              }
-            if (bc.body_force)
-              {
-                std::vector<Point<dim>> points(quadrature.size());
-                for (unsigned int q = 0; q < quadrature.size(); ++q)
-                  points[q] = geometry.point(quadrature.point(q));
-                std::vector<Vector<double>> force(points.size(),
-                                                  Vector<double>(dim));
-                bc.body_force->vector_value_list(points, force);
-                for (unsigned int q = 0; q < quadrature.size(); ++q)
-                  {
-                    // the hat of local vertex a at reference point xi
-                    const Point<dim> &xi  = quadrature.point(q);
-                    double            hat = 1.;
-                    for (unsigned int d = 0; d < dim; ++d)
-                      hat -= xi[d];
-                    if (a > 0)
-                      hat = xi[a - 1];
-                    for (unsigned int c = 0; c < dim; ++c)
-                      {
-                        const double term = force[q][c] * hat *
-                                            quadrature.weight(q) *
-                                            geometry.determinant;
-                        q_values[e][c] -= term;
-                        scale[e][c] += std::abs(term);
-                      }
-                  }
-              }
-            for (unsigned int f = 0; f <= dim; ++f)
-              {
-                const unsigned int face = mesh.cell_faces[cell][f];
-                if (mesh.corner(face, vertex) != invalid &&
-                    std::find(faces.begin(), faces.end(), face) == faces.end())
-                  faces.push_back(face);
-              }
-          }
-        const unsigned int n_faces_here = faces.size();
-        // A: s(E, G) for the faces of E through the vertex
-        FullMatrix<double> incidence(n, n_faces_here);
-        for (unsigned int e = 0; e < n; ++e)
-          for (unsigned int g = 0; g < n_faces_here; ++g)
-            {
-              const auto &fc = mesh.face_cells[faces[g]];
-              if (fc[0] == cells[e] || fc[1] == cells[e])
-                incidence(e, g) = mesh.sign(faces[g], cells[e]);
-            }
-        double defect = 0., defect_scale = 0.;
-        for (unsigned int c = 0; c < dim; ++c)
-          {
-            // data faces to the right-hand side; the averaged FE tractions
-            // of the free ones
-            Vector<double>    rhs(n), average(n_faces_here);
-            std::vector<bool> is_free(n_faces_here);
-            bool              free_boundary = false;
-            for (unsigned int g = 0; g < n_faces_here; ++g)
-              {
-                const unsigned int face = faces[g];
-                const unsigned int k    = mesh.corner(face, vertex);
-                is_free[g]              = free[face][c];
-                if (is_free[g])
-                  {
-                    const auto             &fc = mesh.face_cells[face];
-                    const CellGeometry<dim> first(mesh, fc[0]);
-                    unsigned int            f = 0;
-                    while (mesh.cell_faces[fc[0]][f] != face)
-                      ++f;
-                    SymmetricTensor<2, dim> stress = strains.sigma_h[fc[0]];
-                    if (fc[1] != invalid)
-                      stress = 0.5 * (stress + strains.sigma_h[fc[1]]);
-                    else
-                      free_boundary = true;
-                    average[g] = (stress * first.normal[f])[c] *
-                                 mesh.face_measure[face] / dim;
-                  }
-                else
-                  {
-                    std::array<double, dim> corner_values;
-                    for (unsigned int m = 0; m < dim; ++m)
-                      corner_values[m] = densities[slot<dim>(face, m, c)];
-                    const double data =
-                      hat_times_linear<dim>(mesh.face_measure[face],
-                                            k,
-                                            corner_values);
-                    projections[slot<dim>(face, k, c)] = data;
-                    for (unsigned int e = 0; e < n; ++e)
-                      if (incidence(e, g) != 0.)
-                        {
-                          rhs[e] -= incidence(e, g) * data;
-                          scale[e][c] += std::abs(data);
-                        }
-                  }
-              }
-            for (unsigned int e = 0; e < n; ++e)
-              rhs[e] += q_values[e][c];
-            // b = average + A^T lambda, A A^T lambda = rhs - A average
-            Vector<double>     residual(rhs);
-            FullMatrix<double> normal(n, n);
-            for (unsigned int e = 0; e < n; ++e)
-              {
-                for (unsigned int g = 0; g < n_faces_here; ++g)
-                  if (is_free[g])
-                    residual[e] -= incidence(e, g) * average[g];
-                for (unsigned int l = 0; l < n; ++l)
-                  for (unsigned int g = 0; g < n_faces_here; ++g)
-                    if (is_free[g])
-                      normal(e, l) += incidence(e, g) * incidence(l, g);
-              }
-            // without a free boundary face the sum of the rows vanishes
-            // (and so does that of the right-hand side: R(phi_i e_c) = 0),
-            // cells without a free face have empty rows: make it definite
-            // without changing A^T lambda
-            for (unsigned int e = 0; e < n; ++e)
-              {
-                if (normal(e, e) == 0.)
-                  normal(e, e) = 1.;
-                if (!free_boundary)
-                  for (unsigned int l = 0; l < n; ++l)
-                    normal(e, l) += 1.;
-              }
-            FullMatrix<double> factor(normal);
-            Vector<double>     lambda(residual);
-            if (SmallMatrices::cholesky(factor, 1e-13))
-              cholesky_solve(factor, lambda);
-            else
-              {
-                // (a patch of unusual topology) least squares via the
-                // pseudo-inverse
-                LAPACKFullMatrix<double> pseudo(n, n);
-                pseudo = normal;
-                pseudo.compute_inverse_svd(1e-12);
-                pseudo.vmult(lambda, residual);
-              }
-            for (unsigned int g = 0; g < n_faces_here; ++g)
-              if (is_free[g])
-                {
-                  double value = average[g];
-                  for (unsigned int e = 0; e < n; ++e)
-                    value += incidence(e, g) * lambda[e];
-                  projections[slot<dim>(
-                    faces[g], mesh.corner(faces[g], vertex), c)] = value;
-                }
-            // the prolongation condition's defect
-            for (unsigned int e = 0; e < n; ++e)
-              {
-                double value = rhs[e];
-                for (unsigned int g = 0; g < n_faces_here; ++g)
-                  if (is_free[g])
-                    value -= incidence(e, g) *
-                             projections[slot<dim>(
-                               faces[g], mesh.corner(faces[g], vertex), c)];
-                defect       = std::max(defect, std::abs(value));
-                defect_scale = std::max(defect_scale, scale[e][c]);
-              }
-          }
-        std::lock_guard<std::mutex> lock(mutex);
-        largest_defect = std::max(largest_defect, defect);
-        largest_scale  = std::max(largest_scale, defect_scale);
-      };
-      parallel::apply_to_subranges(
-        0u,
-        triangulation.n_vertices(),
-        [&](const unsigned int begin, const unsigned int end) {
-          for (unsigned int v = begin; v < end; ++v)
-            if (computes[v])
-              classical_patch(v);
-        },
-        32);
-      sum_over_ranks(projections, communicator);
-      largest_scale = Utilities::MPI::max(largest_scale, communicator);
-      checks.prolongation =
-        Utilities::MPI::max(largest_defect, communicator) /
-        std::max(largest_scale, std::numeric_limits<double>::min());
-    }
-    // the densities of the free components from their projections: M^-1 b
-    for (unsigned int face = 0; face < n_faces; ++face)
-      for (unsigned int c = 0; c < dim; ++c)
-        if (free[face][c])
-          {
-            double sum = 0.;
-            for (unsigned int k = 0; k < dim; ++k)
-              sum += projections[slot<dim>(face, k, c)];
-            for (unsigned int k = 0; k < dim; ++k)
-              densities[slot<dim>(face, k, c)] =
-                dim * (dim + 1.) *
-                (projections[slot<dim>(face, k, c)] - sum / (dim + 1.)) /
-                mesh.face_measure[face];
-          }
-    projections.clear();
-    projections.shrink_to_fit();
-
-    const ElementSpace<dim> space(settings.degree);
-    const Rules<dim>        rules(settings.degree);
-
-    // the patches of the enhancement: the cells around each hinge, a vertex
-    // in 2D, an edge in 3D (the entities of dimension dim - 2, around which
-    // the changes of densities that keep every element in equilibrium are
-    // generated; Pled et al. 2012 use vertices in 2D)
-    const Hinges<dim> hinges(mesh, rank);
-    std::vector<bool> needed(mesh.owned);
+    // 2. the element problems on the cells this rank owns and those of the
+    //    patches of the enhancement: around each hinge, a vertex in 2D, an
+    //    edge in 3D (the entities of dimension dim - 2, around which the
+    //    changes of densities that keep every element in equilibrium are
+    //    generated; Pled et al. 2012 use vertices in 2D)
+    const Hinges<dim> hinges(context.mesh, context.rank);
+    std::vector<bool> needed(context.mesh.owned);
     if (settings.max_iterations > 0)
       for (unsigned int h = 0; h < hinges.size(); ++h)
         if (hinges.computes[h])
           for (const unsigned int cell : hinges.cells[h])
             needed[cell] = true;
-
-    // 2. the element problems, as quadratic functions of the densities d_E
-    //    of each element: with w = K^-1 (L d + l_f),
-    //    ||K eps(w) -/+ K eps(U^)||^2_E = d^T H d + 2 g-/+^T d + c-/+,
-    //    H = L^T K^-1 L, g-/+ = L^T K^-1 (l_f -/+ a_U)
-    std::vector<PackedSymmetric> hessian(n_cells);
-    std::vector<Vector<double>>  gradient(n_cells), sum_gradient(n_cells);
-    std::vector<double>          constant(n_cells), sum_constant(n_cells);
-    parallel::apply_to_subranges(
-      0u,
-      n_cells,
-      [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int cell = begin; cell < end; ++cell)
-          if (needed[cell])
-            {
-              const CellGeometry<dim>  geometry(mesh, cell);
-              const ElementSystem<dim> system =
-                element_system(mesh,
-                               geometry,
-                               cell,
-                               space,
-                               rules,
-                               input,
-                               input.material.stress(
-                                 strains.admissible_strain[cell]));
-              const unsigned int n = space.size();
-              FullMatrix<double> solved(n, n_element_values<dim>);
-              Vector<double>     column(n);
-              for (unsigned int a = 0; a < n_element_values<dim>; ++a)
-                {
-                  for (unsigned int j = 0; j < n; ++j)
-                    column[j] = system.load(j, a);
-                  cholesky_solve(system.factor, column);
-                  for (unsigned int j = 0; j < n; ++j)
-                    solved(j, a) = column[j];
-                }
-              FullMatrix<double> full(n_element_values<dim>,
-                                      n_element_values<dim>);
-              system.load.Tmmult(full, solved);
-              hessian[cell] = PackedSymmetric(full);
-              Vector<double> data(system.body);
-              data -= system.admissible;
-              gradient[cell].reinit(n_element_values<dim>);
-              solved.Tvmult(gradient[cell], data);
-              data.add(2., system.admissible);
-              sum_gradient[cell].reinit(n_element_values<dim>);
-              solved.Tvmult(sum_gradient[cell], data);
-              // l_f^T w_f -/+ 2 a_U^T w_f + |E| K eps(U^) : eps(U^)
-              Vector<double> body_solution(system.body);
-              cholesky_solve(system.factor, body_solution);
-              const SymmetricTensor<2, dim> &strain =
-                strains.admissible_strain[cell];
-              const double base =
-                (system.body * body_solution) +
-                geometry.measure * (input.material.stress(strain) * strain);
-              constant[cell] = base - 2. * (system.admissible * body_solution);
-              sum_constant[cell] =
-                base + 2. * (system.admissible * body_solution);
-            }
-      },
-      16);
-
+    const ElementQuadratics<dim> quadratics =
+      element_quadratics(context, needed);
 
     // 3. the enhancement
     if (settings.max_iterations > 0)
-      {
-        // the patch preconditioner: for each computed hinge, the free slots
-        // of the faces through it, its position among the hinges of each
-        // (its contributions are summed in that order: the same on any
-        // number of ranks and threads) and B with B B^T = Z (Z^T H Z)^-1
-        // Z^T, Z a basis of the changes of these slots keeping every element
-        // of the patch in equilibrium, H the Hessian of J on them
-        struct Patch
-        {
-          std::vector<unsigned int> slots;
-          std::vector<unsigned int> entries;
-          // (row-major; in double precision: the corrections must keep
-          // every element in equilibrium to round-off)
-          std::vector<double> correction;
-          unsigned int        rank = 0;
-        };
-        std::vector<Patch> patch_of(hinges.size());
-        const auto         describe_patch = [&](const unsigned int hinge) {
-          Patch      &patch = patch_of[hinge];
-          const auto &cells = hinges.cells[hinge];
-          std::vector<std::array<int, n_element_values<dim>>> positions(
-            cells.size());
-          for (unsigned int e = 0; e < cells.size(); ++e)
-            for (unsigned int f = 0; f <= dim; ++f)
-              {
-                const unsigned int face = mesh.cell_faces[cells[e]][f];
-                const bool         through = hinges.in_face(hinge, face);
-                for (unsigned int k = 0; k < dim; ++k)
-                  for (unsigned int c = 0; c < dim; ++c)
-                    {
-                      int &position = positions[e][(f * dim + k) * dim + c];
-                      position      = -1;
-                      if (!through || !free[face][c])
-                        continue;
-                      const unsigned int s = slot<dim>(face, k, c);
-                      const auto         it =
-                        std::find(patch.slots.begin(), patch.slots.end(), s);
-                      position = it - patch.slots.begin();
-                      if (it == patch.slots.end())
-                        {
-                          patch.slots.push_back(s);
-                          patch.entries.push_back(
-                            s * dim + hinges.position_in_face(hinge, face));
-                        }
-                    }
-              }
-          const unsigned int n_free = patch.slots.size();
-          if (n_free == 0)
-            return;
-          FullMatrix<double> patch_hessian(n_free, n_free);
-          FullMatrix<double> constraints(n_rigid<dim> * cells.size(), n_free);
-          for (unsigned int e = 0; e < cells.size(); ++e)
-            {
-              const unsigned int       cell = cells[e];
-              const CellGeometry<dim>  geometry(mesh, cell);
-              const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
-              for (unsigned int a = 0; a < n_element_values<dim>; ++a)
-                {
-                  const int i = positions[e][a];
-                  if (i < 0)
-                    continue;
-                  for (unsigned int b = 0; b < n_element_values<dim>; ++b)
-                    if (positions[e][b] >= 0)
-                      patch_hessian(i, positions[e][b]) += hessian[cell](a, b);
-                  for (unsigned int r = 0; r < n_rigid<dim>; ++r)
-                    constraints(e * n_rigid<dim> + r, i) = work(r, a);
-                }
-            }
-          const FullMatrix<double> kernel =
-            SmallMatrices::kernel_basis(constraints);
-          const unsigned int m = kernel.n();
-          if (m == 0)
-            return;
-          FullMatrix<double> hz(n_free, m), reduced(m, m);
-          patch_hessian.mmult(hz, kernel);
-          kernel.Tmmult(reduced, hz);
-          double largest = 0.;
-          for (unsigned int i = 0; i < m; ++i)
-            largest = std::max(largest, reduced(i, i));
-          for (unsigned int i = 0; i < m; ++i)
-            reduced(i, i) += 1e-12 * largest;
-          if (!SmallMatrices::cholesky(reduced, 1e-14))
-            return;
-          // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T
-          FullMatrix<double> factor(n_free, m);
-          for (unsigned int i = 0; i < n_free; ++i)
-            for (unsigned int j = 0; j < m; ++j)
-              {
-                double value = kernel(i, j);
-                for (unsigned int k = 0; k < j; ++k)
-                  value -= factor(i, k) * reduced(j, k);
-                factor(i, j) = value / reduced(j, j);
-              }
-          patch.rank = m;
-          patch.correction.resize(n_free * m);
-          for (unsigned int i = 0; i < n_free; ++i)
-            for (unsigned int j = 0; j < m; ++j)
-              patch.correction[i * m + j] = factor(i, j);
-        };
-        std::vector<unsigned int> computed;
-        for (unsigned int h = 0; h < hinges.size(); ++h)
-          if (hinges.computes[h])
-            computed.push_back(h);
-        parallel::apply_to_subranges(
-          0u,
-          static_cast<unsigned int>(computed.size()),
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int p = begin; p < end; ++p)
-              describe_patch(computed[p]);
-          },
-          16);
-
-        // z = sum over the patches of B B^T r (each entry of the
-        // contributions has one source: the sum is rank independent)
-        std::vector<double> contributions(n_slots * dim);
-        const auto          precondition = [&](const std::vector<double> &r,
-                                      std::vector<double>       &z) {
-          std::fill(contributions.begin(), contributions.end(), 0.);
-          parallel::apply_to_subranges(
-            0u,
-            static_cast<unsigned int>(computed.size()),
-            [&](const unsigned int begin, const unsigned int end) {
-              std::vector<double> reduced;
-              for (unsigned int p = begin; p < end; ++p)
-                {
-                  const Patch       &patch = patch_of[computed[p]];
-                  const unsigned int m     = patch.rank;
-                  if (m == 0)
-                    continue;
-                  // B (B^T r)
-                  reduced.assign(m, 0.);
-                  for (unsigned int i = 0; i < patch.slots.size(); ++i)
-                    {
-                      const double  value = r[patch.slots[i]];
-                      const double *row   = &patch.correction[i * m];
-                      for (unsigned int j = 0; j < m; ++j)
-                        reduced[j] += row[j] * value;
-                    }
-                  for (unsigned int i = 0; i < patch.slots.size(); ++i)
-                    {
-                      const double *row   = &patch.correction[i * m];
-                      double        value = 0.;
-                      for (unsigned int j = 0; j < m; ++j)
-                        value += row[j] * reduced[j];
-                      contributions[patch.entries[i]] = value;
-                    }
-                }
-            },
-            16);
-          sum_over_ranks(contributions, communicator);
-          for (unsigned int s = 0; s < n_slots; ++s)
-            {
-              double value = 0.;
-              for (unsigned int k = 0; k < dim; ++k)
-                value += contributions[s * dim + k];
-              z[s] = value;
-            }
-        };
-
-        // y = H x (+ g): the sum of the owned cells' contributions, at
-        // most two per slot (so the sum is rank independent too)
-        std::vector<std::array<unsigned int, 2>> local_face(n_faces);
-        for (unsigned int face = 0; face < n_faces; ++face)
-          for (unsigned int side = 0; side < 2; ++side)
-            {
-              const unsigned int cell = mesh.face_cells[face][side];
-              local_face[face][side]  = invalid;
-              if (cell != invalid)
-                for (unsigned int f = 0; f <= dim; ++f)
-                  if (mesh.cell_faces[cell][f] == face)
-                    local_face[face][side] = f;
-            }
-        std::vector<Vector<double>> cell_products(n_cells);
-        const auto                  multiply = [&](const std::vector<double> &x,
-                                  const bool                 with_gradient,
-                                  std::vector<double>       &y) {
-          parallel::apply_to_subranges(
-            0u,
-            n_cells,
-            [&](const unsigned int begin, const unsigned int end) {
-              for (unsigned int cell = begin; cell < end; ++cell)
-                if (mesh.owned[cell])
-                  {
-                    Vector<double> &product = cell_products[cell];
-                    if (with_gradient)
-                      product = gradient[cell];
-                    else
-                      product.reinit(n_element_values<dim>);
-                    hessian[cell].vmult_add(product,
-                                            element_densities(mesh, cell, x));
-                  }
-            },
-            64);
-          for (unsigned int face = 0; face < n_faces; ++face)
-            for (unsigned int k = 0; k < dim; ++k)
-              for (unsigned int c = 0; c < dim; ++c)
-                {
-                  double value = 0.;
-                  for (unsigned int side = 0; side < 2; ++side)
-                    {
-                      const unsigned int cell = mesh.face_cells[face][side];
-                      if (cell != invalid && mesh.owned[cell])
-                        value += cell_products
-                          [cell][(local_face[face][side] * dim + k) * dim + c];
-                    }
-                  y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
-                }
-          sum_over_ranks(y, communicator);
-        };
-        const auto dot = [](const std::vector<double> &a,
-                            const std::vector<double> &b) {
-          double sum = 0.;
-          for (std::size_t i = 0; i < a.size(); ++i)
-            sum += a[i] * b[i];
-          return sum;
-        };
-
-        // preconditioned conjugate gradients in the changes that keep every
-        // element in equilibrium (each preconditioned residual is a sum of
-        // such changes, so is every direction): every iterate is admissible
-        std::vector<double> residual(n_slots), z(n_slots), direction(n_slots),
-          product(n_slots);
-        multiply(densities, true, residual);
-        for (double &r : residual)
-          r = -r;
-        precondition(residual, z);
-        direction       = z;
-        double rz       = dot(residual, z);
-        double decrease = 0.;
-        for (unsigned int iteration = 0;
-             iteration < settings.max_iterations && rz > 0.;
-             ++iteration)
-          {
-            multiply(direction, false, product);
-            const double curvature = dot(direction, product);
-            if (!(curvature > 0.))
-              break;
-            const double alpha = rz / curvature;
-            for (unsigned int s = 0; s < n_slots; ++s)
-              {
-                densities[s] += alpha * direction[s];
-                residual[s] -= alpha * product[s];
-              }
-            const double step_decrease = 0.5 * alpha * rz;
-            decrease += step_decrease;
-            checks.measure.push_back(step_decrease);
-            // (a decrease at the level of round-off ends it whatever the
-            // tolerance: beyond, the directions are noise)
-            if (step_decrease <= std::max(settings.tolerance, 1e-13) * decrease)
-              break;
-            precondition(residual, z);
-            const double rz_new = dot(residual, z);
-            const double beta   = rz_new / rz;
-            rz                  = rz_new;
-            for (unsigned int s = 0; s < n_slots; ++s)
-              direction[s] = z[s] + beta * direction[s];
-          }
-      }
+      checks.measure =
+        enhance_densities(context, hinges, quadratics, densities);
 
     // 4. the terms of e [14] per element, and the check of equilibrium [2]
-    std::mutex mutex;
-    double     largest_equilibrium_defect = 0.;
-    parallel::apply_to_subranges(
-      0u,
-      n_cells,
-      [&](const unsigned int begin, const unsigned int end) {
-        double range_defect = 0.;
-        for (unsigned int cell = begin; cell < end; ++cell)
-          if (mesh.owned[cell])
-            {
-              const CellGeometry<dim> geometry(mesh, cell);
-              const Vector<double> d = element_densities(mesh, cell, densities);
-              const double         quadratic = hessian[cell].norm_square(d);
-              // (round-off could make a vanishing error negative)
-              error_squared[cell] =
-                std::max(quadratic + 2. * (gradient[cell] * d) + constant[cell],
-                         0.);
-              sum_squared[cell] =
-                std::max(quadratic + 2. * (sum_gradient[cell] * d) +
-                           sum_constant[cell],
-                         0.);
-
-              // the resultant and moment of the element's data
-              const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
-              std::vector<Point<dim>>  points(rules.cell.size());
-              for (unsigned int q = 0; q < rules.cell.size(); ++q)
-                points[q] = geometry.point(rules.cell.point(q));
-              std::vector<Vector<double>> force(points.size(),
-                                                Vector<double>(dim));
-              if (bc.body_force)
-                bc.body_force->vector_value_list(points, force);
-              for (unsigned int r = 0; r < n_rigid<dim>; ++r)
-                {
-                  double value = 0., scale = 0.;
-                  for (unsigned int a = 0; a < n_element_values<dim>; ++a)
-                    {
-                      value += work(r, a) * d[a];
-                      scale += std::abs(work(r, a) * d[a]);
-                    }
-                  for (unsigned int q = 0; q < points.size(); ++q)
-                    for (unsigned int c = 0; c < dim; ++c)
-                      {
-                        const double term =
-                          force[q][c] *
-                          rigid_motion<dim>(
-                            r, points[q], geometry.centre, geometry.size, c) *
-                          rules.cell.weight(q) * geometry.determinant;
-                        value += term;
-                        scale += std::abs(term);
-                      }
-                  if (scale > 0.)
-                    range_defect =
-                      std::max(range_defect, std::abs(value) / scale);
-                }
-            }
-        std::lock_guard<std::mutex> lock(mutex);
-        largest_equilibrium_defect =
-          std::max(largest_equilibrium_defect, range_defect);
-      },
-      64);
-    checks.equilibrium =
-      Utilities::MPI::max(largest_equilibrium_defect, communicator);
+    checks.equilibrium = element_errors(
+      context, quadratics, densities, error_squared, sum_squared);
     return checks;
   }
 

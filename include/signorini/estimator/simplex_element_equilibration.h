@@ -13,8 +13,9 @@ namespace Signorini
   /// How compute_simplex_element_equilibration() builds sigma^.
   struct SimplexEquilibrationSettings
   {
-    /// p + k, the degree of the element problems (at least 2; 3 in 3D, where
-    /// degree 2 leaves some linear face densities without work).
+    /// p + k, the degree of the element problems (2 to 4 on triangles, 3 or
+    /// 4 on tetrahedra, where degree 2 leaves some linear face densities
+    /// without work).
     unsigned int degree = 3;
     /// Largest number of conjugate gradient iterations of the enhancement
     /// (0: the classical densities).
@@ -49,18 +50,21 @@ namespace Signorini
    *    least squares solution towards the averaged finite element tractions;
    *    F^ = F_d on loaded faces, R^ on GC, free on the Dirichlet
    *    components);
-   * 2. the enhancement (weak prolongation condition, Pled, Chamoin and
-   *    Ladeveze 2012): sweeps over the vertex patches, each of which
-   *    re-chooses all nodal values of the densities of the faces through its
-   *    vertex so as to minimise sum_E ||sigma^_E - K eps(U^)||^2 over its
-   *    elements under the equilibrium of each of them alone. Patches of
-   *    vertices that share no edge share no element, so the vertices are
-   *    coloured and each colour is computed in parallel (threads and ranks):
-   *    the result does not depend on their numbers. sigma^ is statically
-   *    admissible after any number of sweeps;
-   * 3. sigma^_E = K eps(v) from the Neumann problem of each element with
+   * 2. sigma^_E = K eps(v) from the Neumann problem of each element with
    *    its data, in complete polynomials of degree settings.degree (rigid
-   *    motions removed), and the terms of e [14].
+   *    motions removed): a quadratic function of the element's densities;
+   * 3. the enhancement (weak prolongation condition, Pled, Chamoin and
+   *    Ladeveze 2012): the densities re-chosen to minimise
+   *    J = 1/2 sum_E ||sigma^_E - K eps(U^)||^2 under the equilibrium of
+   *    each element alone, by conjugate gradients in the changes that keep
+   *    every element in equilibrium, preconditioned by the patches around
+   *    the entities of dimension dim - 2 (vertices in 2D, edges in 3D: each
+   *    patch re-chooses all nodal values of the faces through its entity
+   *    under the equilibrium of its cells). sigma^ is statically admissible
+   *    after any number of iterations. Each patch is computed by one rank
+   *    and every density value sums its contributions in a fixed order: the
+   *    result does not depend on the numbers of ranks and threads;
+   * 4. the terms of e [14] per element.
    *
    * Fills @p error_squared and @p sum_squared as
    * StressReconstruction::compute() does (the cells this rank owns), on a
