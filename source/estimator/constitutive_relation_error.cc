@@ -34,8 +34,8 @@ namespace Signorini
     prm.enter_subsection("Error estimator");
     is_enabled = prm.get_bool("Enable");
     prm.leave_subsection();
-    // only when it is used: a reconstruction may refuse the dimension
-    // (both are written for triangles)
+    // only when it is used: a reconstruction may refuse the dimension or a
+    // choice of its parameters
     reconstruction.reset();
     if (is_enabled)
       reconstruction = StressReconstruction<dim>::registry().create(prm);

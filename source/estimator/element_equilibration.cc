@@ -1894,7 +1894,8 @@ namespace Signorini
                                      Vector<double>   &sum_squared)
   {
     static_assert(dim == 2,
-                  "the element equilibration is written for triangles");
+                  "this implementation is written for triangles (tetrahedra: "
+                  "compute_on_simplices())");
     if (simplex_implementation)
       {
         compute_on_simplices(input,

@@ -894,71 +894,69 @@ namespace Signorini
       const auto          n_slots = context.n_slots;
       auto               &free    = context.free;
       std::vector<double> densities(n_slots, 0.);
-      {
-        for (unsigned int face = 0; face < n_faces; ++face)
-          {
-            const types::boundary_id id = mesh.face_boundary[face];
-            if (id == numbers::internal_face_boundary_id)
-              {
-                free[face].fill(true);
-                continue;
-              }
-            const ComponentMask mask = bc.dirichlet_mask(id);
-            for (unsigned int c = 0; c < dim; ++c)
-              free[face][c] = mask.n_selected_components(dim) > 0 && mask[c];
-            std::array<Point<dim>, dim> corners;
+      for (unsigned int face = 0; face < n_faces; ++face)
+        {
+          const types::boundary_id id = mesh.face_boundary[face];
+          if (id == numbers::internal_face_boundary_id)
+            {
+              free[face].fill(true);
+              continue;
+            }
+          const ComponentMask mask = bc.dirichlet_mask(id);
+          for (unsigned int c = 0; c < dim; ++c)
+            free[face][c] = mask.n_selected_components(dim) > 0 && mask[c];
+          std::array<Point<dim>, dim> corners;
+          for (unsigned int k = 0; k < dim; ++k)
+            corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
+          const double measure = mesh.face_measure[face];
+          if (bc.has_traction(id))
+            {
+              std::vector<Point<dim>> points(rules.face.size());
+              std::vector<double>     hats(rules.face.size() * dim);
+              std::array<double, dim> corner_hats;
+              for (unsigned int q = 0; q < rules.face.size(); ++q)
+                {
+                  points[q] = Rules<dim>::face_point(corners,
+                                                     rules.face.point(q),
+                                                     corner_hats);
+                  for (unsigned int k = 0; k < dim; ++k)
+                    hats[q * dim + k] = corner_hats[k];
+                }
+              std::vector<Vector<double>> traction;
+              bc.traction_values(id, points, traction);
+              // projections b_k = int F_d phi_k, then the linear density
+              // of the same projections: M^-1 b with M = |G| (I + J) /
+              // (dim (dim + 1)), M^-1 = dim (dim + 1) (I - J / (dim + 1)) /
+              // |G|
+              for (unsigned int c = 0; c < dim; ++c)
+                {
+                  std::array<double, dim> projection{};
+                  for (unsigned int q = 0; q < rules.face.size(); ++q)
+                    for (unsigned int k = 0; k < dim; ++k)
+                      projection[k] += traction[q][c] * hats[q * dim + k] *
+                                       rules.face.weight(q) * measure /
+                                       rules.reference_face;
+                  double sum = 0.;
+                  for (unsigned int k = 0; k < dim; ++k)
+                    sum += projection[k];
+                  for (unsigned int k = 0; k < dim; ++k)
+                    densities[slot<dim>(face, k, c)] +=
+                      dim * (dim + 1.) * (projection[k] - sum / (dim + 1.)) /
+                      measure;
+                }
+            }
+          if (contact.boundary_ids().count(id) != 0)
             for (unsigned int k = 0; k < dim; ++k)
-              corners[k] = mesh.vertices[mesh.face_vertices[face][k]];
-            const double measure = mesh.face_measure[face];
-            if (bc.has_traction(id))
-              {
-                std::vector<Point<dim>> points(rules.face.size());
-                std::vector<double>     hats(rules.face.size() * dim);
-                std::array<double, dim> corner_hats;
-                for (unsigned int q = 0; q < rules.face.size(); ++q)
-                  {
-                    points[q] = Rules<dim>::face_point(corners,
-                                                       rules.face.point(q),
-                                                       corner_hats);
-                    for (unsigned int k = 0; k < dim; ++k)
-                      hats[q * dim + k] = corner_hats[k];
-                  }
-                std::vector<Vector<double>> traction;
-                bc.traction_values(id, points, traction);
-                // projections b_k = int F_d phi_k, then the linear density
-                // of the same projections: M^-1 b with M = |G| (I + J) /
-                // (dim (dim + 1)), M^-1 = dim (dim + 1) (I - J / (dim + 1)) /
-                // |G|
-                for (unsigned int c = 0; c < dim; ++c)
-                  {
-                    std::array<double, dim> projection{};
-                    for (unsigned int q = 0; q < rules.face.size(); ++q)
-                      for (unsigned int k = 0; k < dim; ++k)
-                        projection[k] += traction[q][c] * hats[q * dim + k] *
-                                         rules.face.weight(q) * measure /
-                                         rules.reference_face;
-                    double sum = 0.;
-                    for (unsigned int k = 0; k < dim; ++k)
-                      sum += projection[k];
-                    for (unsigned int k = 0; k < dim; ++k)
-                      densities[slot<dim>(face, k, c)] +=
-                        dim * (dim + 1.) * (projection[k] - sum / (dim + 1.)) /
-                        measure;
-                  }
-              }
-            if (contact.boundary_ids().count(id) != 0)
+              for (unsigned int c = 0; c < dim; ++c)
+                densities[slot<dim>(face, k, c)] +=
+                  input.normal_reaction[contact.node_index(
+                    mesh.face_vertices[face][k])] *
+                  contact.direction()[c];
+          for (unsigned int c = 0; c < dim; ++c)
+            if (free[face][c])
               for (unsigned int k = 0; k < dim; ++k)
-                for (unsigned int c = 0; c < dim; ++c)
-                  densities[slot<dim>(face, k, c)] +=
-                    input.normal_reaction[contact.node_index(
-                      mesh.face_vertices[face][k])] *
-                    contact.direction()[c];
-            for (unsigned int c = 0; c < dim; ++c)
-              if (free[face][c])
-                for (unsigned int k = 0; k < dim; ++k)
-                  densities[slot<dim>(face, k, c)] = 0.;
-          }
-      }
+                densities[slot<dim>(face, k, c)] = 0.;
+        }
 
       return densities;
     }
