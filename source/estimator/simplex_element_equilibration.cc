@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 
 namespace Signorini
@@ -1075,6 +1076,22 @@ namespace Signorini
                 if (fc[0] == cells[e] || fc[1] == cells[e])
                   incidence(e, g) = mesh.sign(faces[g], cells[e]);
               }
+          // the averaged FE traction on each face through the vertex (on
+          // its first cell; sigma_h n on a boundary face), for the free
+          // components
+          std::vector<Tensor<1, dim>> average_traction(n_faces_here);
+          for (unsigned int g = 0; g < n_faces_here; ++g)
+            {
+              const auto             &fc = mesh.face_cells[faces[g]];
+              const CellGeometry<dim> first(mesh, fc[0]);
+              unsigned int            f = 0;
+              while (mesh.cell_faces[fc[0]][f] != faces[g])
+                ++f;
+              SymmetricTensor<2, dim> stress = strains.sigma_h[fc[0]];
+              if (fc[1] != invalid)
+                stress = 0.5 * (stress + strains.sigma_h[fc[1]]);
+              average_traction[g] = stress * first.normal[f];
+            }
           double defect = 0., defect_scale = 0.;
           for (unsigned int c = 0; c < dim; ++c)
             {
@@ -1090,18 +1107,10 @@ namespace Signorini
                   is_free[g]              = free[face][c];
                   if (is_free[g])
                     {
-                      const auto             &fc = mesh.face_cells[face];
-                      const CellGeometry<dim> first(mesh, fc[0]);
-                      unsigned int            f = 0;
-                      while (mesh.cell_faces[fc[0]][f] != face)
-                        ++f;
-                      SymmetricTensor<2, dim> stress = strains.sigma_h[fc[0]];
-                      if (fc[1] != invalid)
-                        stress = 0.5 * (stress + strains.sigma_h[fc[1]]);
-                      else
+                      if (mesh.face_cells[face][1] == invalid)
                         free_boundary = true;
-                      average[g] = (stress * first.normal[f])[c] *
-                                   mesh.face_measure[face] / dim;
+                      average[g] =
+                        average_traction[g][c] * mesh.face_measure[face] / dim;
                     }
                   else
                     {
@@ -1719,20 +1728,25 @@ namespace Signorini
     //    edge in 3D (the entities of dimension dim - 2, around which the
     //    changes of densities that keep every element in equilibrium are
     //    generated; Pled et al. 2012 use vertices in 2D)
-    const Hinges<dim> hinges(context.mesh, context.rank);
-    std::vector<bool> needed(context.mesh.owned);
+    // (the hinges only when there is an enhancement)
+    std::unique_ptr<const Hinges<dim>> hinges;
+    std::vector<bool>                  needed(context.mesh.owned);
     if (settings.max_iterations > 0)
-      for (unsigned int h = 0; h < hinges.size(); ++h)
-        if (hinges.computes[h])
-          for (const unsigned int cell : hinges.cells[h])
-            needed[cell] = true;
+      {
+        hinges =
+          std::make_unique<const Hinges<dim>>(context.mesh, context.rank);
+        for (unsigned int h = 0; h < hinges->size(); ++h)
+          if (hinges->computes[h])
+            for (const unsigned int cell : hinges->cells[h])
+              needed[cell] = true;
+      }
     const ElementQuadratics<dim> quadratics =
       element_quadratics(context, needed);
 
     // 3. the enhancement
-    if (settings.max_iterations > 0)
+    if (hinges)
       checks.measure =
-        enhance_densities(context, hinges, quadratics, densities);
+        enhance_densities(context, *hinges, quadratics, densities);
 
     // 4. the terms of e [14] per element, and the check of equilibrium [2]
     checks.equilibrium = element_errors(
