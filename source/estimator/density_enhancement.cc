@@ -92,15 +92,18 @@ namespace Signorini
 
 
 
-  DensityEnhancement::Patch
-  DensityEnhancement::describe_patch(const unsigned int vertex) const
+  void
+  DensityEnhancement::describe_patch(const unsigned int vertex,
+                                     Patch             &patch) const
   {
-    Patch       patch;
     const auto &cells = patches.cells_of_vertex(vertex);
+    patch.slots.clear();
     patch.positions.resize(cells.size());
     // the slots, in the order of the cells, their edges, ends and
-    // components; the first slot of each edge already met
-    std::vector<std::pair<unsigned int, unsigned int>> edge_start;
+    // components; the first slot of each edge already met (work space
+    // reused by each thread: allocations dominated the set-up)
+    thread_local std::vector<std::pair<unsigned int, unsigned int>> edge_start;
+    edge_start.clear();
     for (unsigned int i = 0; i < cells.size(); ++i)
       {
         patch.positions[i].fill(-1);
@@ -133,13 +136,17 @@ namespace Signorini
       }
     const unsigned int n = patch.slots.size();
     if (n == 0)
-      return patch;
+      {
+        patch.basis.reinit(0, 0);
+        return;
+      }
 
     // the equilibrium of each cell (resultant, moment about its centroid /
     // its diameter) for a unit value of each slot; their kernel (for an
     // interior vertex three rows are dependent: the sum of the resultants
     // and moments of the changes of shared edges vanishes)
-    FullMatrix<double> constraints(3 * cells.size(), n);
+    thread_local FullMatrix<double> constraints;
+    constraints.reinit(3 * cells.size(), n);
     for (unsigned int i = 0; i < cells.size(); ++i)
       {
         const auto &cell_vertices = patches.vertices(cells[i]);
@@ -181,7 +188,6 @@ namespace Signorini
           }
       }
     patch.basis = SmallMatrices::kernel_basis(constraints);
-    return patch;
   }
 
 
@@ -197,9 +203,13 @@ namespace Signorini
     const unsigned int n_slots = densities.size();
 
     // the element quadratics of the needed cells, stored flat: the
-    // gradients, and the upper triangles of the (symmetric) Hessians
-    constexpr unsigned int packed_size = 78;
-    std::vector<double>    hessians(packed_size * std::size_t(n_cells));
+    // gradients, and the full (symmetric) Hessians in single precision: the
+    // products of the conjugate gradients then vectorise and read half the
+    // memory; a rounded Hessian changes the minimiser by 1e-7 relative but
+    // not the admissibility of any iterate, which only the patch
+    // corrections decide
+    constexpr unsigned int hessian_size = 144;
+    std::vector<float>     hessians(hessian_size * std::size_t(n_cells));
     std::vector<double>    gradients(12 * std::size_t(n_cells));
     parallel::apply_to_subranges(
       0u,
@@ -209,64 +219,95 @@ namespace Signorini
           if (patches.needed(cell))
             {
               const ElementQuadratic quadratic = element_quadratic(cell);
-              double *h = &hessians[packed_size * std::size_t(cell)];
-              for (unsigned int a = 0; a < 12; ++a)
-                for (unsigned int b = a; b < 12; ++b)
-                  *h++ = quadratic.hessian(a, b);
+              std::transform(quadratic.hessian.begin(),
+                             quadratic.hessian.end(),
+                             hessians.begin() +
+                               hessian_size * std::size_t(cell),
+                             [](const double h) { return float(h); });
               std::copy(quadratic.gradient.begin(),
                         quadratic.gradient.end(),
                         gradients.begin() + 12 * std::size_t(cell));
             }
       },
       64);
-    // entry (a, b) of the Hessian of a cell: position a (25 - a) / 2 + b - a
-    // of the packed rows of its upper triangle
+    // entry (a, b) of the Hessian of a cell
     const auto hessian_entry = [&hessians](const unsigned int cell,
                                            const unsigned int a,
                                            const unsigned int b) {
-      const unsigned int i = std::min(a, b), j = std::max(a, b);
-      return double(
-        hessians[packed_size * std::size_t(cell) + i * (25 - i) / 2 + j - i]);
+      return double(hessians[hessian_size * std::size_t(cell) + 12 * a + b]);
     };
 
     // the patches this rank computes, with the factor B_i of their
-    // correction Z_i (Z_i^T H_i Z_i)^+ Z_i^T = B_i B_i^T
+    // correction Z_i (Z_i^T H_i Z_i)^+ Z_i^T = B_i B_i^T; kept in blocks of
+    // consecutive patches whose slots and factors are contiguous, which the
+    // preconditioner streams through (with one heap object per patch it
+    // took twice as long)
     std::vector<unsigned int> computed;
     for (unsigned int vertex = 0; vertex < patches.n_vertices(); ++vertex)
       if (patches.computes_patch(vertex))
         computed.push_back(vertex);
-    std::vector<Patch> patch_data(computed.size());
+    constexpr unsigned int patches_per_block = 256;
+    const unsigned int     n_blocks =
+      (computed.size() + patches_per_block - 1) / patches_per_block;
+    std::vector<PatchBlock> blocks(n_blocks);
     parallel::apply_to_subranges(
       0u,
-      static_cast<unsigned int>(computed.size()),
+      n_blocks,
       [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int p = begin; p < end; ++p)
+        Patch              patch;
+        FullMatrix<double> hessian, hz, reduced;
+        // (a block is assembled in work space reused by the thread, then
+        // copied into arrays of its exact size: growing them took longer
+        // than computing their contents on the finest meshes)
+        thread_local PatchBlock work;
+        for (unsigned int b = begin; b < end; ++b)
           {
-            Patch &patch = patch_data[p] = describe_patch(computed[p]);
-            const unsigned int n = patch.slots.size(), k = patch.basis.n();
-            if (k == 0)
-              continue;
-            FullMatrix<double> hessian(n, n);
-            const auto        &cells = patches.cells_of_vertex(computed[p]);
-            for (unsigned int i = 0; i < cells.size(); ++i)
+            PatchBlock &block = work;
+            block.sizes.clear();
+            block.slots.clear();
+            block.factors.clear();
+            const unsigned int first = b * patches_per_block;
+            const unsigned int last =
+              std::min<unsigned int>(first + patches_per_block,
+                                     computed.size());
+            for (unsigned int p = first; p < last; ++p)
               {
-                const auto &position = patch.positions[i];
-                for (unsigned int a = 0; a < 12; ++a)
-                  if (position[a] >= 0)
-                    for (unsigned int b = 0; b < 12; ++b)
-                      if (position[b] >= 0)
-                        hessian(position[a], position[b]) +=
-                          hessian_entry(cells[i], a, b);
+                describe_patch(computed[p], patch);
+                const unsigned int n = patch.slots.size(), k = patch.basis.n();
+                block.sizes.push_back({{n, k}});
+                block.slots.insert(block.slots.end(),
+                                   patch.slots.begin(),
+                                   patch.slots.end());
+                if (k == 0)
+                  continue;
+                hessian.reinit(n, n);
+                const auto &cells = patches.cells_of_vertex(computed[p]);
+                for (unsigned int i = 0; i < cells.size(); ++i)
+                  {
+                    const auto &position = patch.positions[i];
+                    for (unsigned int a = 0; a < 12; ++a)
+                      if (position[a] >= 0)
+                        for (unsigned int b = 0; b < 12; ++b)
+                          if (position[b] >= 0)
+                            hessian(position[a], position[b]) +=
+                              hessian_entry(cells[i], a, b);
+                  }
+                hz.reinit(n, k);
+                reduced.reinit(k, k);
+                hessian.mmult(hz, patch.basis);
+                patch.basis.Tmmult(reduced, hz);
+                const FullMatrix<double> factor =
+                  correction_factor(patch.basis, reduced);
+                block.factors.insert(block.factors.end(),
+                                     &factor(0, 0),
+                                     &factor(0, 0) + n * k);
               }
-            FullMatrix<double> hz(n, k), reduced(k, k);
-            hessian.mmult(hz, patch.basis);
-            patch.basis.Tmmult(reduced, hz);
-            patch.correction = correction_factor(patch.basis, reduced);
-            patch.basis      = FullMatrix<double>();
-            patch.positions  = {};
+            blocks[b].sizes   = work.sizes;
+            blocks[b].slots   = work.slots;
+            blocks[b].factors = work.factors;
           }
       },
-      16);
+      1);
 
     // the operators on full slot vectors, summed over the ranks
     const auto sum_over_ranks = [&](Vector<double> &vector) {
@@ -280,37 +321,11 @@ namespace Signorini
           std::copy(sum.begin(), sum.end(), vector.begin());
         }
     };
-    // y = sum over the owned cells of H_E x_E (the Hessian of J): the
-    // products of the cells in parallel, then gathered slot by slot from
-    // the (at most two) cells of its edge in increasing cell order
-    std::vector<double> products(12 * std::size_t(n_cells));
-    const auto apply_hessian = [&](const Vector<double> &x, Vector<double> &y) {
-      parallel::apply_to_subranges(
-        0u,
-        n_cells,
-        [&](const unsigned int begin, const unsigned int end) {
-          std::array<double, 12> local;
-          for (unsigned int cell = begin; cell < end; ++cell)
-            if (patches.owned(cell))
-              {
-                const auto &edges = patches.edges(cell);
-                for (unsigned int b = 0; b < 12; ++b)
-                  local[b] = x[4 * edges[b / 4] + b % 4];
-                const double *h = &hessians[packed_size * std::size_t(cell)];
-                double *const product = &products[12 * std::size_t(cell)];
-                std::fill(product, product + 12, 0.);
-                for (unsigned int a = 0; a < 12; ++a)
-                  {
-                    product[a] += *h++ * local[a];
-                    for (unsigned int b = a + 1; b < 12; ++b, ++h)
-                      {
-                        product[a] += *h * local[b];
-                        product[b] += *h * local[a];
-                      }
-                  }
-              }
-        },
-        256);
+    // y = sum over the owned cells E of the 12 values v_E of @p cell_values
+    // (12 per cell) at the slots of E's edges: gathered slot by slot from the
+    // (at most two) cells of its edge in increasing cell order
+    const auto sum_cell_values = [&](const std::vector<double> &cell_values,
+                                     Vector<double>            &y) {
       y.reinit(n_slots, true);
       parallel::apply_to_subranges(
         0u,
@@ -328,7 +343,7 @@ namespace Signorini
                       std::find(edges.begin(), edges.end(), edge) -
                       edges.begin();
                     for (unsigned int j = 0; j < 4; ++j)
-                      sum[j] += products[12 * std::size_t(cell) + 4 * e + j];
+                      sum[j] += cell_values[12 * std::size_t(cell) + 4 * e + j];
                   }
               for (unsigned int j = 0; j < 4; ++j)
                 y[4 * edge + j] = sum[j];
@@ -337,65 +352,118 @@ namespace Signorini
         1024);
       sum_over_ranks(y);
     };
+    // y = sum over the owned cells of H_E x_E (the Hessian of J): the
+    // products of the cells in parallel, then summed per slot
+    std::vector<double> products(12 * std::size_t(n_cells));
+    const auto apply_hessian = [&](const Vector<double> &x, Vector<double> &y) {
+      parallel::apply_to_subranges(
+        0u,
+        n_cells,
+        [&](const unsigned int begin, const unsigned int end) {
+          std::array<double, 12> local;
+          for (unsigned int cell = begin; cell < end; ++cell)
+            if (patches.owned(cell))
+              {
+                const auto &edges = patches.edges(cell);
+                for (unsigned int b = 0; b < 12; ++b)
+                  local[b] = x[4 * edges[b / 4] + b % 4];
+                const float *h = &hessians[hessian_size * std::size_t(cell)];
+                // (column by column: twelve independent sums)
+                std::array<double, 12> product = {};
+                for (unsigned int b = 0; b < 12; ++b, h += 12)
+                  for (unsigned int a = 0; a < 12; ++a)
+                    product[a] += double(h[a]) * local[b];
+                std::copy(product.begin(),
+                          product.end(),
+                          products.begin() + 12 * std::size_t(cell));
+              }
+        },
+        256);
+      sum_cell_values(products, y);
+    };
     // z = sum_i B_i B_i^T r_i (additive Schwarz): the corrections computed
-    // patch by patch in parallel into one flat array, then gathered slot by
+    // patch by patch in parallel into one flat array (block b from
+    // block_offset[b], in the order of its slots), then gathered slot by
     // slot from the (at most two) patches of the slot's edge ends, in patch
     // order
-    std::vector<unsigned int> offset(computed.size() + 1, 0);
-    unsigned int              largest_kernel = 0;
-    for (unsigned int p = 0; p < computed.size(); ++p)
+    std::vector<std::size_t> block_offset(n_blocks + 1, 0);
+    unsigned int             largest_patch = 0;
+    for (unsigned int b = 0; b < n_blocks; ++b)
       {
-        offset[p + 1] = offset[p] + patch_data[p].slots.size();
-        largest_kernel =
-          std::max<unsigned int>(largest_kernel, patch_data[p].correction.n());
+        block_offset[b + 1] = block_offset[b] + blocks[b].slots.size();
+        for (const auto &size : blocks[b].sizes)
+          largest_patch = std::max(largest_patch, size[0]);
       }
-    std::vector<std::array<unsigned int, 2>> slot_sources(
-      n_slots,
-      {{numbers::invalid_unsigned_int, numbers::invalid_unsigned_int}});
-    for (unsigned int p = 0; p < computed.size(); ++p)
-      for (unsigned int j = 0; j < patch_data[p].slots.size(); ++j)
-        {
-          auto &sources = slot_sources[patch_data[p].slots[j]];
-          sources[sources[0] == numbers::invalid_unsigned_int ? 0 : 1] =
-            offset[p] + j;
-        }
-    std::vector<double> corrections(offset.back());
+    std::vector<std::array<std::size_t, 2>> slot_sources(
+      n_slots, {{numbers::invalid_size_type, numbers::invalid_size_type}});
+    // (a slot is in the patches of both ends of its edge, if both are
+    // computed here: the first source is that of the lower vertex)
+    parallel::apply_to_subranges(
+      0u,
+      n_blocks,
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int b = begin; b < end; ++b)
+          {
+            std::size_t j = 0;
+            for (unsigned int p = b * patches_per_block;
+                 p < b * patches_per_block + blocks[b].sizes.size();
+                 ++p)
+              for (unsigned int i = 0;
+                   i < blocks[b].sizes[p % patches_per_block][0];
+                   ++i, ++j)
+                {
+                  const unsigned int slot   = blocks[b].slots[j];
+                  const auto        &ends   = edge_vertices[slot / 4];
+                  const unsigned int vertex = computed[p];
+                  const unsigned int other =
+                    ends[0] == vertex ? ends[1] : ends[0];
+                  slot_sources[slot]
+                              [patches.computes_patch(other) && other < vertex ?
+                                 1 :
+                                 0] = block_offset[b] + j;
+                }
+          }
+      },
+      1);
+    std::vector<double> corrections(block_offset.back());
     const auto precondition = [&](const Vector<double> &r, Vector<double> &z) {
       parallel::apply_to_subranges(
         0u,
-        static_cast<unsigned int>(computed.size()),
+        n_blocks,
         [&](const unsigned int begin, const unsigned int end) {
-          std::vector<double> reduced(largest_kernel);
-          for (unsigned int p = begin; p < end; ++p)
+          std::vector<double> values(largest_patch), reduced(largest_patch);
+          for (unsigned int b = begin; b < end; ++b)
             {
-              const Patch       &patch = patch_data[p];
-              const unsigned int n     = patch.slots.size(),
-                                 k     = patch.correction.n();
-              double *const correction = corrections.data() + offset[p];
-              if (k == 0)
+              const unsigned int *slots  = blocks[b].slots.data();
+              const double       *factor = blocks[b].factors.data();
+              double *correction         = corrections.data() + block_offset[b];
+              for (const auto &[n, k] : blocks[b].sizes)
                 {
-                  std::fill(correction, correction + n, 0.);
-                  continue;
-                }
-              const unsigned int *const slots = patch.slots.data();
-              const double *const       b     = &patch.correction(0, 0);
-              std::fill(reduced.begin(), reduced.begin() + k, 0.);
-              for (unsigned int j = 0; j < n; ++j)
-                {
-                  const double value = r[slots[j]];
-                  for (unsigned int i = 0; i < k; ++i)
-                    reduced[i] += b[k * j + i] * value;
-                }
-              for (unsigned int j = 0; j < n; ++j)
-                {
-                  double value = 0.;
-                  for (unsigned int i = 0; i < k; ++i)
-                    value += b[k * j + i] * reduced[i];
-                  correction[j] = value;
+                  if (k == 0)
+                    std::fill(correction, correction + n, 0.);
+                  else
+                    {
+                      for (unsigned int j = 0; j < n; ++j)
+                        values[j] = r[slots[j]];
+                      std::fill(reduced.begin(), reduced.begin() + k, 0.);
+                      for (unsigned int j = 0; j < n; ++j)
+                        for (unsigned int i = 0; i < k; ++i)
+                          reduced[i] += factor[k * j + i] * values[j];
+                      for (unsigned int j = 0; j < n; ++j)
+                        {
+                          double value = 0.;
+                          for (unsigned int i = 0; i < k; ++i)
+                            value += factor[k * j + i] * reduced[i];
+                          correction[j] = value;
+                        }
+                    }
+                  slots += n;
+                  factor += std::size_t(n) * k;
+                  correction += n;
                 }
             }
         },
-        64);
+        4);
       z.reinit(n_slots, true);
       parallel::apply_to_subranges(
         0u,
@@ -405,8 +473,8 @@ namespace Signorini
             {
               const auto &sources = slot_sources[slot];
               double      value   = 0.;
-              for (const unsigned int source : sources)
-                if (source != numbers::invalid_unsigned_int)
+              for (const std::size_t source : sources)
+                if (source != numbers::invalid_size_type)
                   value += corrections[source];
               z[slot] = value;
             }
@@ -416,13 +484,9 @@ namespace Signorini
     };
 
     // the residual -grad J at the given densities
-    Vector<double> residual(n_slots);
-    for (unsigned int cell = 0; cell < n_cells; ++cell)
-      if (patches.owned(cell))
-        for (unsigned int a = 0; a < 12; ++a)
-          residual[4 * patches.edges(cell)[a / 4] + a % 4] -=
-            gradients[12 * std::size_t(cell) + a];
-    sum_over_ranks(residual);
+    Vector<double> residual;
+    sum_cell_values(gradients, residual);
+    residual *= -1.;
 
     Vector<double> preconditioned, direction, hessian_direction;
     precondition(residual, preconditioned);

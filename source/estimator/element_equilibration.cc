@@ -15,6 +15,7 @@
 #include <signorini/estimator/johnson_mercier_element.h>
 #include <signorini/estimator/local_loops.h>
 #include <signorini/estimator/simplex_element_equilibration.h>
+#include <signorini/estimator/small_matrices.h>
 #include <signorini/estimator/vertex_patches.h>
 #include <signorini/input_error.h>
 #include <signorini/registry.h>
@@ -523,20 +524,36 @@ namespace Signorini
       const auto          &bc          = input.boundary_conditions;
       const auto          &contact     = input.contact_boundary;
       const Tensor<1, 2>   nu_c        = contact.direction();
-      FEFaceValues<2>      fe_face_values(input.mapping,
-                                     fe,
-                                     face_quadrature,
-                                     update_values | update_quadrature_points |
-                                       update_JxW_values |
-                                       update_normal_vectors);
+      struct FaceScratch
+      {
+        FEFaceValues<2> fe_face_values;
+        FaceScratch(const Mapping<2>       &mapping,
+                    const FiniteElement<2> &fe,
+                    const Quadrature<1>    &quadrature)
+          : fe_face_values(mapping,
+                           fe,
+                           quadrature,
+                           update_values | update_quadrature_points |
+                             update_JxW_values)
+        {}
+        FaceScratch(const FaceScratch &other)
+          : FaceScratch(other.fe_face_values.get_mapping(),
+                        other.fe_face_values.get_fe(),
+                        other.fe_face_values.get_quadrature())
+        {}
+      };
 
+      // (in parallel: each edge is written by the first of its cells only)
       std::vector<EdgeData> edges(
         dof_handler.get_triangulation().n_raw_faces());
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        {
+      for_each_cell(
+        dof_handler,
+        [&](const DoFHandler<2>::active_cell_iterator &cell,
+            FaceScratch                               &scratch) {
           const unsigned int index = cell->active_cell_index();
           if (!patches.needed(index))
-            continue;
+            return;
+          FEFaceValues<2> &fe_face_values = scratch.fe_face_values;
           for (const unsigned int f : cell->face_indices())
             {
               const auto face = cell->face(f);
@@ -596,7 +613,8 @@ namespace Signorini
                     edge.length / 6. * (r0 + 2. * r1) * nu_c;
                 }
             }
-        }
+        },
+        FaceScratch(input.mapping, fe, face_quadrature));
       return edges;
     }
 
@@ -660,13 +678,15 @@ namespace Signorini
 
 
     /// The edges of the patch of @p vertex that end there, as (edge, end)
-    /// with edges[edge].vertices[end] == vertex.
-    std::vector<std::pair<unsigned int, unsigned int>>
-    edge_ends_at_vertex(const unsigned int           vertex,
-                        const VertexPatches         &patches,
-                        const std::vector<EdgeData> &edges)
+    /// with edges[edge].vertices[end] == vertex, into @p ends.
+    void
+    edge_ends_at_vertex(
+      const unsigned int                                  vertex,
+      const VertexPatches                                &patches,
+      const std::vector<EdgeData>                        &edges,
+      std::vector<std::pair<unsigned int, unsigned int>> &ends)
     {
-      std::vector<std::pair<unsigned int, unsigned int>> ends;
+      ends.clear();
       for (const unsigned int cell : patches.cells_of_vertex(vertex))
         for (const unsigned int edge : patches.edges(cell))
           for (unsigned int end = 0; end < 2; ++end)
@@ -675,24 +695,24 @@ namespace Signorini
                           ends.end(),
                           std::make_pair(edge, end)) == ends.end())
               ends.emplace_back(edge, end);
-      return ends;
     }
 
 
 
-    /// The PatchSystem of @p vertex and @p component; @p edge_ends from
-    /// edge_ends_at_vertex().
-    PatchSystem
+    /// The PatchSystem of @p vertex and @p component into @p system;
+    /// @p edge_ends from edge_ends_at_vertex().
+    void
     assemble_patch_system(
       const unsigned int                                        vertex,
       const unsigned int                                        component,
       const std::vector<std::pair<unsigned int, unsigned int>> &edge_ends,
       const VertexPatches                                      &patches,
       const CellQuantities                                     &cells,
-      const std::vector<EdgeData>                              &edges)
+      const std::vector<EdgeData>                              &edges,
+      PatchSystem                                              &system)
     {
       const auto &patch = patches.cells_of_vertex(vertex);
-      PatchSystem system;
+      system.unknowns.clear();
       for (const auto &edge_end : edge_ends)
         if (edges[edge_end.first].unknown_component[component])
           system.unknowns.push_back(edge_end);
@@ -723,22 +743,22 @@ namespace Signorini
                 ++column;
             }
         }
-      return system;
     }
 
 
 
     /// The projections of the averaged FE tractions (sigma_h n on the
     /// boundary) on the unknowns of @p system: the target of the least
-    /// squares choice among the solutions.
-    Vector<double>
+    /// squares choice among the solutions, into @p averaged.
+    void
     averaged_fe_projections(const PatchSystem           &system,
                             const unsigned int           component,
                             const VertexPatches         &patches,
                             const CellQuantities        &cells,
-                            const std::vector<EdgeData> &edges)
+                            const std::vector<EdgeData> &edges,
+                            Vector<double>              &averaged)
     {
-      Vector<double> averaged(system.signs.n());
+      averaged.reinit(system.signs.n());
       for (unsigned int u = 0; u < system.unknowns.size(); ++u)
         {
           const EdgeData &edge = edges[system.unknowns[u].first];
@@ -750,24 +770,37 @@ namespace Signorini
               0.5 * (traction + cells.fe_stress[edge_cells[1]] * edge.normal);
           averaged[u] = traction[component] * edge.length / 2.;
         }
-      return averaged;
     }
 
 
 
-    /// The solution of @p system closest to @p target in the least squares
-    /// sense: b = target + A^T (A A^T)^+ (rhs - A target).
-    Vector<double>
-    closest_solution(const PatchSystem &system, const Vector<double> &target)
+    /// Work space of the patch systems, one per thread: reused, because
+    /// their many small allocations were most of the cost of step 1.
+    struct ProjectionScratch
     {
-      Vector<double> solution(target);
-      const auto    &signs      = system.signs;
-      const auto     n_rows     = signs.m();
-      const auto     n_unknowns = system.unknowns.size();
+      std::vector<std::pair<unsigned int, unsigned int>> edge_ends;
+      PatchSystem                                        system;
+      Vector<double>     projections, defect, multiplier, residual;
+      FullMatrix<double> gram;
+    };
+
+
+
+    /// The solution of @p system closest to the target @p solution in the
+    /// least squares sense: b = target + A^T (A A^T)^+ (rhs - A target).
+    void
+    closest_solution(const PatchSystem &system,
+                     ProjectionScratch &scratch,
+                     Vector<double>    &solution)
+    {
+      const auto &signs      = system.signs;
+      const auto  n_rows     = signs.m();
+      const auto  n_unknowns = system.unknowns.size();
       if (n_unknowns == 0)
-        return solution;
-      Vector<double> defect(n_rows);
-      signs.vmult(defect, target);
+        return;
+      Vector<double> &defect = scratch.defect;
+      defect.reinit(n_rows, true);
+      signs.vmult(defect, solution);
       defect.sadd(-1., 1., system.rhs);
       // multiplier = (A A^T)^+ defect. Every column of A has one entry (a
       // Dirichlet edge) or two of opposite signs (an edge shared by two cells
@@ -782,7 +815,8 @@ namespace Signorini
             entries += (signs(i, u) != 0.) ? 1 : 0;
           all_shared &= (entries == 2);
         }
-      FullMatrix<double> gram(n_rows, n_rows); // A A^T
+      FullMatrix<double> &gram = scratch.gram; // A A^T
+      gram.reinit(n_rows, n_rows);
       for (unsigned int i = 0; i < n_rows; ++i)
         for (unsigned int j = 0; j < n_rows; ++j)
           {
@@ -792,13 +826,11 @@ namespace Signorini
               gram(i, j) += 1.;
           }
       gram.gauss_jordan();
-      Vector<double> multiplier(n_rows);
+      Vector<double> &multiplier = scratch.multiplier;
+      multiplier.reinit(n_rows, true);
       gram.vmult(multiplier, defect);
-      Vector<double> correction(n_unknowns);
-      signs.Tvmult(correction, multiplier);
-      for (unsigned int u = 0; u < n_unknowns; ++u)
-        solution[u] += correction[u];
-      return solution;
+      // += A^T multiplier (the columns beyond the unknowns are zero)
+      signs.Tvmult_add(solution, multiplier);
     }
 
 
@@ -858,19 +890,24 @@ namespace Signorini
                             const bool                  find_free_directions,
                             std::vector<FreeDirection> &free_directions)
     {
-      double     max_defect = 0.;
-      std::mutex mutex;
-      const auto solve_patch = [&](const unsigned int vertex) {
-        double                     patch_defect = 0.;
-        std::vector<FreeDirection> patch_directions;
-        const auto edge_ends = edge_ends_at_vertex(vertex, patches, edges);
+      double              max_defect = 0.;
+      std::vector<double> defects(find_free_directions ? 0 :
+                                                         patches.n_vertices());
+      const auto          solve_patch = [&](const unsigned int vertex) {
+        double                         patch_defect = 0.;
+        std::vector<FreeDirection>     patch_directions;
+        thread_local ProjectionScratch scratch;
+        const auto                    &edge_ends = scratch.edge_ends;
+        edge_ends_at_vertex(vertex, patches, edges, scratch.edge_ends);
         for (unsigned int c = 0; c < 2; ++c)
           {
-            const PatchSystem system = assemble_patch_system(
-              vertex, c, edge_ends, patches, cells, edges);
-            const Vector<double> projections = closest_solution(
-              system,
-              averaged_fe_projections(system, c, patches, cells, edges));
+            const PatchSystem &system = scratch.system;
+            assemble_patch_system(
+              vertex, c, edge_ends, patches, cells, edges, scratch.system);
+            Vector<double> &projections = scratch.projections;
+            averaged_fe_projections(
+              system, c, patches, cells, edges, projections);
+            closest_solution(system, scratch, projections);
             for (unsigned int u = 0; u < system.unknowns.size(); ++u)
               {
                 const auto &[edge, end]        = system.unknowns[u];
@@ -883,22 +920,32 @@ namespace Signorini
                                         directions.begin(),
                                         directions.end());
               }
-            Vector<double> residual(system.rhs.size());
+            Vector<double> &residual = scratch.residual;
+            residual.reinit(system.rhs.size());
             if (!system.unknowns.empty())
               system.signs.vmult(residual, projections);
             residual -= system.rhs;
             patch_defect = std::max(patch_defect, residual.linfty_norm());
           }
-        std::lock_guard<std::mutex> lock(mutex);
-        max_defect = std::max(max_defect, patch_defect);
-        free_directions.insert(free_directions.end(),
-                               patch_directions.begin(),
-                               patch_directions.end());
+        // (in parallel each patch writes only its own defect)
+        if (find_free_directions)
+          {
+            max_defect = std::max(max_defect, patch_defect);
+            free_directions.insert(free_directions.end(),
+                                   patch_directions.begin(),
+                                   patch_directions.end());
+          }
+        else
+          defects[vertex] = patch_defect;
       };
       if (find_free_directions)
         patches.for_each_patch_in_order(solve_patch);
       else
-        patches.for_each_patch(solve_patch, 256);
+        {
+          patches.for_each_patch(solve_patch, 256);
+          for (const double defect : defects)
+            max_defect = std::max(max_defect, defect);
+        }
       return max_defect;
     }
 
@@ -1430,15 +1477,13 @@ namespace Signorini
             }
         }
       DensityEnhancement::ElementQuadratic quadratic;
-      quadratic.hessian.reinit(12, 12);
-      quadratic.gradient.reinit(12);
       for (unsigned int a = 0; a < 12; ++a)
         {
           Vector<double> response = load[a];
           stiffness.solve(response);
           quadratic.gradient[a] = load[a] * error_field;
           for (unsigned int b = 0; b < 12; ++b)
-            quadratic.hessian(b, a) = load[b] * response;
+            quadratic.hessian[12 * b + a] = load[b] * response;
         }
       return quadratic;
     }
@@ -1560,13 +1605,11 @@ namespace Signorini
                 }
           }
         DensityEnhancement::ElementQuadratic result;
-        result.hessian.reinit(12, 12);
-        result.gradient.reinit(12);
         for (unsigned int t = 0; t < 12; ++t)
           {
             result.gradient[slot[t]] = sign[t] * traction_gradient[t];
             for (unsigned int u = 0; u < 12; ++u)
-              result.hessian(slot[t], slot[u]) =
+              result.hessian[12 * slot[t] + slot[u]] =
                 sign[t] * sign[u] * traction_hessian(t, u);
           }
         return result;

@@ -748,27 +748,6 @@ namespace Signorini
       return system;
     }
 
-    /// Solve L L^T x = b in place with the factor of SmallMatrices::cholesky.
-    void
-    cholesky_solve(const FullMatrix<double> &factor, Vector<double> &b)
-    {
-      const unsigned int n = factor.m();
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          double value = b[i];
-          for (unsigned int k = 0; k < i; ++k)
-            value -= factor(i, k) * b[k];
-          b[i] = value / factor(i, i);
-        }
-      for (unsigned int i = n; i-- > 0;)
-        {
-          double value = b[i];
-          for (unsigned int k = i + 1; k < n; ++k)
-            value -= factor(k, i) * b[k];
-          b[i] = value / factor(i, i);
-        }
-    }
-
     /// The element's densities (slot values) from the vector of all.
     template <int dim>
     Vector<double>
@@ -1160,7 +1139,7 @@ namespace Signorini
               FullMatrix<double> factor(normal);
               Vector<double>     lambda(residual);
               if (SmallMatrices::cholesky(factor, 1e-13))
-                cholesky_solve(factor, lambda);
+                SmallMatrices::cholesky_solve(factor, lambda);
               else
                 {
                   // (a patch of unusual topology) least squares via the
@@ -1285,7 +1264,7 @@ namespace Signorini
                   {
                     for (unsigned int j = 0; j < n; ++j)
                       column[j] = system.load(j, a);
-                    cholesky_solve(system.factor, column);
+                    SmallMatrices::cholesky_solve(system.factor, column);
                     for (unsigned int j = 0; j < n; ++j)
                       solved(j, a) = column[j];
                   }
@@ -1302,7 +1281,7 @@ namespace Signorini
                 solved.Tvmult(sum_gradient[cell], data);
                 // l_f^T w_f -/+ 2 a_U^T w_f + |E| K eps(U^) : eps(U^)
                 Vector<double> body_solution(system.body);
-                cholesky_solve(system.factor, body_solution);
+                SmallMatrices::cholesky_solve(system.factor, body_solution);
                 const SymmetricTensor<2, dim> &strain =
                   strains.admissible_strain[cell];
                 const double base =

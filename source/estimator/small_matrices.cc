@@ -36,80 +36,103 @@ namespace Signorini
 
 
 
+    void
+    cholesky_solve(const FullMatrix<double> &factor, Vector<double> &b)
+    {
+      const unsigned int n = factor.m();
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          double value = b[i];
+          for (unsigned int k = 0; k < i; ++k)
+            value -= factor(i, k) * b[k];
+          b[i] = value / factor(i, i);
+        }
+      for (unsigned int i = n; i-- > 0;)
+        {
+          double value = b[i];
+          for (unsigned int k = i + 1; k < n; ++k)
+            value -= factor(k, i) * b[k];
+          b[i] = value / factor(i, i);
+        }
+    }
+
+
+
     FullMatrix<double>
     kernel_basis(const FullMatrix<double> &rows)
     {
       const unsigned int m = rows.m(), n = rows.n();
-      // the columns of rows^T, i.e. the rows, each of length n
-      std::vector<double> a(m * n);
-      for (unsigned int j = 0; j < m; ++j)
-        for (unsigned int i = 0; i < n; ++i)
-          a[j * n + i] = rows(j, i);
-      std::vector<double> tau;
-      double              first_pivot = 0.;
+      // (work space reused by each thread: it is called once per patch)
+      thread_local std::vector<double>       a, z;
+      thread_local std::vector<unsigned int> permutation;
+      a.resize(m * n); // row by row
+      for (unsigned int i = 0; i < m; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          a[i * n + j] = rows(i, j);
+      // column j of a is column permutation[j] of rows
+      permutation.resize(n);
+      for (unsigned int j = 0; j < n; ++j)
+        permutation[j] = j;
+
+      // Gaussian elimination with complete pivoting, to an upper
+      // trapezoidal [U1 U2] of rank r (pivots above 1e-10 times the first)
+      unsigned int rank        = 0;
+      double       first_pivot = 0.;
       for (unsigned int k = 0; k < std::min(m, n); ++k)
         {
-          // the remaining column of largest norm (below row k)
-          unsigned int pivot             = k;
-          double       pivot_norm_square = -1.;
-          for (unsigned int j = k; j < m; ++j)
-            {
-              double norm_square = 0.;
-              for (unsigned int i = k; i < n; ++i)
-                norm_square += a[j * n + i] * a[j * n + i];
-              if (norm_square > pivot_norm_square)
+          unsigned int pivot_row = k, pivot_column = k;
+          double       largest = -1.;
+          for (unsigned int i = k; i < m; ++i)
+            for (unsigned int j = k; j < n; ++j)
+              if (std::abs(a[i * n + j]) > largest)
                 {
-                  pivot             = j;
-                  pivot_norm_square = norm_square;
+                  largest      = std::abs(a[i * n + j]);
+                  pivot_row    = i;
+                  pivot_column = j;
                 }
-            }
-          const double norm = std::sqrt(pivot_norm_square);
           if (k == 0)
-            first_pivot = norm;
-          if (!(norm > 1e-10 * first_pivot))
+            first_pivot = largest;
+          if (!(largest > 1e-10 * first_pivot))
             break;
-          if (pivot != k)
-            for (unsigned int i = 0; i < n; ++i)
-              std::swap(a[k * n + i], a[pivot * n + i]);
-          // the reflector I - t v v^T with v stored in place (v_k = x_k -
-          // alpha), zeroing column k below row k
-          double *const v     = &a[k * n];
-          const double  alpha = v[k] >= 0. ? -norm : norm;
-          v[k] -= alpha;
-          const double t = 1. / (norm * (norm + std::abs(v[k] + alpha)));
-          tau.push_back(t);
-          for (unsigned int j = k + 1; j < m; ++j)
+          if (pivot_row != k)
+            for (unsigned int j = 0; j < n; ++j)
+              std::swap(a[k * n + j], a[pivot_row * n + j]);
+          if (pivot_column != k)
             {
-              double *const w   = &a[j * n];
-              double        dot = 0.;
-              for (unsigned int i = k; i < n; ++i)
-                dot += v[i] * w[i];
-              dot *= t;
-              for (unsigned int i = k; i < n; ++i)
-                w[i] -= dot * v[i];
+              for (unsigned int i = 0; i < m; ++i)
+                std::swap(a[i * n + k], a[i * n + pivot_column]);
+              std::swap(permutation[k], permutation[pivot_column]);
             }
+          const double *const pivot = &a[k * n];
+          for (unsigned int i = k + 1; i < m; ++i)
+            {
+              double *const row = &a[i * n];
+              if (row[k] == 0.) // (the patch systems are sparse)
+                continue;
+              const double factor = row[k] / pivot[k];
+              for (unsigned int j = k + 1; j < n; ++j)
+                row[j] -= factor * pivot[j];
+              row[k] = 0.;
+            }
+          ++rank;
         }
-      const unsigned int rank = tau.size();
 
-      // Q e_c for c = rank..n-1: the reflectors applied in reverse order
-      FullMatrix<double>  basis(n, n - rank);
-      std::vector<double> column(n);
+      // the kernel [-U1^-1 U2; I], back in the original column order
+      FullMatrix<double> basis(n, n - rank);
+      z.resize(rank);
       for (unsigned int c = rank; c < n; ++c)
         {
-          std::fill(column.begin(), column.end(), 0.);
-          column[c] = 1.;
-          for (unsigned int k = rank; k-- > 0;)
+          for (unsigned int i = rank; i-- > 0;)
             {
-              const double *const v   = &a[k * n];
-              double              dot = 0.;
-              for (unsigned int i = k; i < n; ++i)
-                dot += v[i] * column[i];
-              dot *= tau[k];
-              for (unsigned int i = k; i < n; ++i)
-                column[i] -= dot * v[i];
+              const double *const row   = &a[i * n];
+              double              value = -row[c];
+              for (unsigned int j = i + 1; j < rank; ++j)
+                value -= row[j] * z[j];
+              z[i] = value / row[i];
             }
-          for (unsigned int i = 0; i < n; ++i)
-            basis(i, c - rank) = column[i];
+          for (unsigned int i = 0; i < rank; ++i)
+            basis(permutation[i], c - rank) = z[i];
+          basis(permutation[c], c - rank) = 1.;
         }
       return basis;
     }

@@ -160,21 +160,9 @@ namespace Signorini
     void
     cholesky_solve(FullMatrix<double> &matrix, Vector<double> &rhs)
     {
-      const unsigned int n = matrix.m();
       AssertThrow(SmallMatrices::cholesky(matrix),
                   ExcMessage("patch matrix not positive definite"));
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          for (unsigned int k = 0; k < i; ++k)
-            rhs[i] -= matrix(i, k) * rhs[k];
-          rhs[i] /= matrix(i, i);
-        }
-      for (unsigned int i = n; i-- > 0;)
-        {
-          for (unsigned int k = i + 1; k < n; ++k)
-            rhs[i] -= matrix(k, i) * rhs[k];
-          rhs[i] /= matrix(i, i);
-        }
+      SmallMatrices::cholesky_solve(matrix, rhs);
     }
 
     /// reference barycentric coordinates of a point of the unit triangle

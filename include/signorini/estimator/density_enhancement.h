@@ -75,10 +75,10 @@ namespace Signorini
      */
     struct ElementQuadratic
     {
-      /// 12 x 12, symmetric positive semi-definite.
-      FullMatrix<double> hessian;
+      /// 12 x 12, row by row, symmetric positive semi-definite.
+      std::array<double, 144> hessian;
       /// 12 entries, at the current densities.
-      Vector<double> gradient;
+      std::array<double, 12> gradient;
     };
 
     /**
@@ -133,17 +133,28 @@ namespace Signorini
       /// the position in slots of each of its 12 values (-1: not changed).
       std::vector<std::array<int, 12>> positions;
       /// A basis Z of the changes of these slots keeping every element of
-      /// the patch in equilibrium (columns; orthonormal).
+      /// the patch in equilibrium (columns; SmallMatrices::kernel_basis()).
       FullMatrix<double> basis;
-      /// B with B B^T = Z (Z^T H Z)^+ Z^T, H the Hessian of the restriction
-      /// of J to the patch: its correction is B B^T r for the residual r.
-      FullMatrix<double> correction;
     };
 
-    /// The patch of @p vertex: its slots, their positions in its cells and
-    /// the basis of its equilibrated changes (the correction is left empty).
-    Patch
-    describe_patch(const unsigned int vertex) const;
+    /// The preconditioner's data of consecutive patches, stored contiguously.
+    struct PatchBlock
+    {
+      /// Per patch: the number n of its slots and k of the columns of B,
+      /// B B^T = Z (Z^T H Z)^+ Z^T with H the Hessian of the restriction of
+      /// J to the patch (its correction is B B^T r for the residual r).
+      std::vector<std::array<unsigned int, 2>> sizes;
+      /// The slots of the patches, one after the other.
+      std::vector<unsigned int> slots;
+      /// The factors B of the patches (n x k, row by row), one after the
+      /// other.
+      std::vector<double> factors;
+    };
+
+    /// The patch of @p vertex into @p patch: its slots, their positions in
+    /// its cells and the basis of its equilibrated changes.
+    void
+    describe_patch(const unsigned int vertex, Patch &patch) const;
 
     /// The cells and edges.
     const VertexPatches &patches;

@@ -2,6 +2,7 @@
 #define signorini_estimator_small_matrices_h
 
 #include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
 
 namespace Signorini
 {
@@ -24,11 +25,21 @@ namespace Signorini
     bool
     cholesky(FullMatrix<double> &matrix, const double relative_tolerance = 0.);
 
+    /// Solve L L^T x = b in place (@p b becomes x) with the factor L of
+    /// cholesky() (its lower triangle).
+    void
+    cholesky_solve(const FullMatrix<double> &factor, Vector<double> &b);
+
     /**
-     * An orthonormal basis (columns) of the kernel of the m x n matrix
-     * @p rows: the last n - r columns of Q in the Householder QR with column
-     * pivoting of rows^T = Q R, r its numerical rank (pivots above 1e-10
-     * times the first).
+     * A basis (columns, not orthonormal) of the kernel of the m x n matrix
+     * @p rows: Gaussian elimination with complete pivoting brings it to
+     * [U1 U2] (up to a permutation of the columns), U1 r x r upper
+     * triangular, r the numerical rank (pivots above 1e-10 times the
+     * first); the basis is [-U1^-1 U2; I]. Complete pivoting keeps the
+     * entries of U1^-1 U2 moderate. About half the cost of a Householder QR
+     * with column pivoting (a dense 18 x 24 matrix, the size of a vertex
+     * patch's constraints: 4.3 against 7.9 microseconds), less on the
+     * sparse constraint matrices, whose zero entries it skips.
      */
     FullMatrix<double>
     kernel_basis(const FullMatrix<double> &rows);
