@@ -57,7 +57,75 @@ namespace Signorini
             }
       return factor;
     }
+
+
+
+    /// Whether the columns of @p basis are a basis of the kernel of
+    /// @p constraints (to round-off).
+    [[maybe_unused]] bool
+    is_kernel_basis(const FullMatrix<double> &constraints,
+                    const FullMatrix<double> &basis)
+    {
+      FullMatrix<double> product(constraints.m(), basis.n());
+      constraints.mmult(product, basis);
+      return product.frobenius_norm() <=
+               1e-10 * constraints.frobenius_norm() * basis.frobenius_norm() &&
+             SmallMatrices::kernel_basis(constraints).n() == basis.n() &&
+             SmallMatrices::kernel_basis(basis).n() == 0;
+    }
   } // namespace
+
+
+
+  std::array<double, 16>
+  DensityEnhancement::AiryEdge::slot_changes() const
+  {
+    // with R v = (v_y, -v_x), the reference normal nu = R tau, w = 1 /
+    // length and s = +1 if the vertex is end 0, -1 otherwise: grad phi at
+    // the midpoint is
+    //   G_m = (-3/2 s w phi - G . tau / 4) tau + (G . nu / 2 + beta) nu
+    // for (phi, G = grad phi) at the vertex and beta the change of the
+    // normal derivative (the cubic Hermite interpolant along the edge,
+    // whose derivative integrates to the change of phi: the moment
+    // balance), and the traction at the vertex's end and at the other end
+    //   s w R (4 G_m - 3 G),  s w R (G - 4 G_m)
+    // (the derivative of the quadratic through the ends and the midpoint)
+    const double w = inverse_length, s = vertex_end == 0 ? 1. : -1.;
+    const double tau[2] = {tangent[0], tangent[1]};
+    const double nu[2]  = {tau[1], -tau[0]};
+    // row of component c at the vertex's end and at the other
+    const unsigned int     here = 2 * vertex_end, there = 2 - here;
+    std::array<double, 16> changes;
+    // phi = 1 / patch_scale: G_m = -3/2 s w phi tau, R tau = nu
+    const double phi_change = 6. * w * w / patch_scale;
+    // beta = 1: G_m = nu, R nu = -tau
+    const double beta_change = 4. * s * w;
+    for (unsigned int c = 0; c < 2; ++c)
+      {
+        changes[4 * (here + c)]      = -phi_change * nu[c];
+        changes[4 * (there + c)]     = phi_change * nu[c];
+        changes[4 * (here + c) + 3]  = -beta_change * tau[c];
+        changes[4 * (there + c) + 3] = beta_change * tau[c];
+      }
+    // G = e_j: 4 G_m - 3 e_j = -tau_j tau + 2 nu_j nu - 3 e_j, and
+    // e_j - 4 G_m = -(4 G_m - 3 e_j) - 2 e_j
+    for (unsigned int j = 0; j < 2; ++j)
+      {
+        double v[2];
+        for (unsigned int c = 0; c < 2; ++c)
+          v[c] = -tau[j] * tau[c] + 2. * nu[j] * nu[c] - (c == j ? 3. : 0.);
+        // R v = (v_y, -v_x)
+        const double at_vertex[2] = {s * w * v[1], -s * w * v[0]};
+        const double unit_r[2]    = {j == 1 ? 1. : 0., j == 0 ? -1. : 0.};
+        for (unsigned int c = 0; c < 2; ++c)
+          {
+            changes[4 * (here + c) + 1 + j] = at_vertex[c];
+            changes[4 * (there + c) + 1 + j] =
+              -at_vertex[c] - 2. * s * w * unit_r[c];
+          }
+      }
+    return changes;
+  }
 
 
 
@@ -135,18 +203,71 @@ namespace Signorini
           }
       }
     const unsigned int n = patch.slots.size();
+    patch.airy_edges.clear();
     if (n == 0)
       {
         patch.basis.reinit(0, 0);
         return;
       }
 
+    // an Airy patch: the basis written out, which costs a fraction of the
+    // elimination (most patches: all interior ones)
+    const bool airy = std::all_of(edge_start.begin(),
+                                  edge_start.end(),
+                                  [this](const auto &entry) {
+                                    return free_components[entry.first][0] &&
+                                           free_components[entry.first][1];
+                                  });
+    if (airy)
+      {
+        const unsigned int n_edges = edge_start.size();
+        patch.basis.reinit(n, 3 + n_edges);
+        for (unsigned int j = 0; j < n_edges; ++j)
+          {
+            const unsigned int edge   = edge_start[j].first;
+            const Point<2>    &a      = vertices[edge_vertices[edge][0]];
+            const Point<2>    &b      = vertices[edge_vertices[edge][1]];
+            const double       length = a.distance(b);
+            AiryEdge           airy_edge;
+            airy_edge.first_slot     = slot(edge, 0, 0);
+            airy_edge.vertex_end     = edge_vertices[edge][0] == vertex ? 0 : 1;
+            airy_edge.tangent[0]     = (b[0] - a[0]) / length;
+            airy_edge.tangent[1]     = (b[1] - a[1]) / length;
+            airy_edge.inverse_length = 1. / length;
+            airy_edge.patch_scale    = j == 0 ? airy_edge.inverse_length :
+                                                patch.airy_edges[0].patch_scale;
+            patch.airy_edges.push_back(airy_edge);
+            // (the edge's slots are positions 4 j to 4 j + 3, in slot order)
+            const std::array<double, 16> changes = airy_edge.slot_changes();
+            for (unsigned int row = 0; row < 4; ++row)
+              {
+                for (unsigned int column = 0; column < 3; ++column)
+                  patch.basis(4 * j + row, column) = changes[4 * row + column];
+                patch.basis(4 * j + row, 3 + j) = changes[4 * row + 3];
+              }
+          }
+        Assert(is_kernel_basis(equilibrium_constraints(vertex, patch),
+                               patch.basis),
+               ExcInternalError());
+        return;
+      }
+    patch.basis =
+      SmallMatrices::kernel_basis(equilibrium_constraints(vertex, patch));
+  }
+
+
+
+  FullMatrix<double>
+  DensityEnhancement::equilibrium_constraints(const unsigned int vertex,
+                                              const Patch       &patch) const
+  {
+    const auto        &cells = patches.cells_of_vertex(vertex);
+    const unsigned int n     = patch.slots.size();
     // the equilibrium of each cell (resultant, moment about its centroid /
     // its diameter) for a unit value of each slot; their kernel (for an
     // interior vertex three rows are dependent: the sum of the resultants
     // and moments of the changes of shared edges vanishes)
-    thread_local FullMatrix<double> constraints;
-    constraints.reinit(3 * cells.size(), n);
+    FullMatrix<double> constraints(3 * cells.size(), n);
     for (unsigned int i = 0; i < cells.size(); ++i)
       {
         const auto &cell_vertices = patches.vertices(cells[i]);
@@ -187,7 +308,7 @@ namespace Signorini
               }
           }
       }
-    patch.basis = SmallMatrices::kernel_basis(constraints);
+    return constraints;
   }
 
 
@@ -255,7 +376,7 @@ namespace Signorini
       n_blocks,
       [&](const unsigned int begin, const unsigned int end) {
         Patch              patch;
-        FullMatrix<double> hessian, hz, reduced;
+        FullMatrix<double> hessian, hz, reduced, inverse;
         // (a block is assembled in work space reused by the thread, then
         // copied into arrays of its exact size: growing them by doubling
         // cost 0.4 of the 5.3 s of this set-up at 1.6M DoFs)
@@ -265,6 +386,9 @@ namespace Signorini
             work.sizes.clear();
             work.slots.clear();
             work.factors.clear();
+            work.airy_first_slots.clear();
+            work.airy_changes.clear();
+            work.airy_inverses.clear();
             const unsigned int first = block * patches_per_block;
             const unsigned int last =
               std::min<unsigned int>(first + patches_per_block,
@@ -272,8 +396,9 @@ namespace Signorini
             for (unsigned int p = first; p < last; ++p)
               {
                 describe_patch(computed[p], patch);
-                const unsigned int n = patch.slots.size(), k = patch.basis.n();
-                work.sizes.push_back({{n, k}});
+                const unsigned int n = patch.slots.size(), k = patch.basis.n(),
+                                   n_airy = patch.airy_edges.size();
+                work.sizes.push_back({{n, k, n_airy}});
                 work.slots.insert(work.slots.end(),
                                   patch.slots.begin(),
                                   patch.slots.end());
@@ -295,15 +420,38 @@ namespace Signorini
                 reduced.reinit(k, k);
                 hessian.mmult(hz, patch.basis);
                 patch.basis.Tmmult(reduced, hz);
-                const FullMatrix<double> factor =
-                  correction_factor(patch.basis, reduced);
-                work.factors.insert(work.factors.end(),
-                                    &factor(0, 0),
-                                    &factor(0, 0) + n * k);
+                if (n_airy > 0)
+                  {
+                    // (Z^T H Z)^+ = F F^T, F = correction_factor(I, .)
+                    const FullMatrix<double> factor =
+                      correction_factor(FullMatrix<double>(IdentityMatrix(k)),
+                                        reduced);
+                    inverse.reinit(k, k);
+                    factor.mTmult(inverse, factor);
+                    for (const AiryEdge &airy_edge : patch.airy_edges)
+                      {
+                        work.airy_first_slots.push_back(airy_edge.first_slot);
+                        work.airy_changes.push_back(airy_edge.slot_changes());
+                      }
+                    work.airy_inverses.insert(work.airy_inverses.end(),
+                                              &inverse(0, 0),
+                                              &inverse(0, 0) + k * k);
+                  }
+                else
+                  {
+                    const FullMatrix<double> factor =
+                      correction_factor(patch.basis, reduced);
+                    work.factors.insert(work.factors.end(),
+                                        &factor(0, 0),
+                                        &factor(0, 0) + n * k);
+                  }
               }
-            blocks[block].sizes   = work.sizes;
-            blocks[block].slots   = work.slots;
-            blocks[block].factors = work.factors;
+            blocks[block].sizes            = work.sizes;
+            blocks[block].slots            = work.slots;
+            blocks[block].factors          = work.factors;
+            blocks[block].airy_first_slots = work.airy_first_slots;
+            blocks[block].airy_changes     = work.airy_changes;
+            blocks[block].airy_inverses    = work.airy_inverses;
           }
       },
       1);
@@ -431,15 +579,58 @@ namespace Signorini
           std::vector<double> values(largest_patch), reduced(largest_patch);
           for (unsigned int b = begin; b < end; ++b)
             {
-              const unsigned int *slots  = blocks[b].slots.data();
-              const double       *factor = blocks[b].factors.data();
-              double *correction         = corrections.data() + block_offset[b];
-              for (const auto &[n, k] : blocks[b].sizes)
+              const PatchBlock   &block  = blocks[b];
+              const double       *factor = block.factors.data();
+              const unsigned int *airy_first_slot =
+                block.airy_first_slots.data();
+              const std::array<double, 16> *changes = block.airy_changes.data();
+              const float *inverse    = block.airy_inverses.data();
+              double      *correction = corrections.data() + block_offset[b];
+              std::size_t  first_slot = 0;
+              for (const auto &[n, k, n_airy] : block.sizes)
                 {
                   if (k == 0)
                     std::fill(correction, correction + n, 0.);
+                  else if (n_airy > 0)
+                    {
+                      // Z^T r edge by edge, (Z^T H Z)^+, then Z
+                      std::fill(reduced.begin(), reduced.begin() + k, 0.);
+                      for (unsigned int j = 0; j < n_airy; ++j)
+                        {
+                          const double *r_edge = r.begin() + airy_first_slot[j];
+                          for (unsigned int row = 0; row < 4; ++row)
+                            {
+                              for (unsigned int i = 0; i < 3; ++i)
+                                reduced[i] +=
+                                  changes[j][4 * row + i] * r_edge[row];
+                              reduced[3 + j] +=
+                                changes[j][4 * row + 3] * r_edge[row];
+                            }
+                        }
+                      for (unsigned int i = 0; i < k; ++i)
+                        {
+                          double value = 0.;
+                          for (unsigned int l = 0; l < k; ++l)
+                            value += double(inverse[k * i + l]) * reduced[l];
+                          values[i] = value;
+                        }
+                      for (unsigned int j = 0; j < n_airy; ++j)
+                        for (unsigned int row = 0; row < 4; ++row)
+                          {
+                            double value =
+                              changes[j][4 * row + 3] * values[3 + j];
+                            for (unsigned int i = 0; i < 3; ++i)
+                              value += changes[j][4 * row + i] * values[i];
+                            correction[4 * j + row] = value;
+                          }
+                      airy_first_slot += n_airy;
+                      changes += n_airy;
+                      inverse += std::size_t(k) * k;
+                    }
                   else
                     {
+                      const unsigned int *slots =
+                        block.slots.data() + first_slot;
                       for (unsigned int j = 0; j < n; ++j)
                         values[j] = r[slots[j]];
                       std::fill(reduced.begin(), reduced.begin() + k, 0.);
@@ -453,9 +644,9 @@ namespace Signorini
                             value += factor[k * j + i] * reduced[i];
                           correction[j] = value;
                         }
+                      factor += std::size_t(n) * k;
                     }
-                  slots += n;
-                  factor += std::size_t(n) * k;
+                  first_slot += n;
                   correction += n;
                 }
             }

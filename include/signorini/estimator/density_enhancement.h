@@ -39,10 +39,12 @@ namespace Signorini
    * values of the densities of the edges through i (interior edges: both
    * components; boundary edges: their Dirichlet components; loaded and
    * contact components keep their data) under the equilibrium of each
-   * element of the patch, and minimises its restriction of J exactly. Each
-   * patch correction keeps every element in equilibrium, so does every
-   * iterate: sigma^ stays statically admissible after any number of
-   * iterations (a fixed number, "Enhancement iterations").
+   * element of the patch, and minimises its restriction of J exactly: over
+   * the changes written out from an Airy function (AiryEdge) when every edge
+   * through the vertex may change both components, otherwise over a kernel
+   * computed by elimination. Each patch correction keeps every element in
+   * equilibrium, so does every iterate: sigma^ stays statically admissible
+   * after any number of iterations.
    *
    * Densities are exchanged as vectors over all edges of the mesh, slot
    * 4 G + 2 k + c for edge G (face index), its end k (in the face's vertex
@@ -124,6 +126,39 @@ namespace Signorini
         Vector<double>                                      &densities) const;
 
   private:
+    /**
+     * An edge of a patch whose equilibrated changes are written out
+     * (Airy patches, describe_patch()): a change of the Airy function phi
+     * of the stress at the patch's vertex (phi, grad phi) and of the normal
+     * derivative of phi at the edge's midpoint changes the traction on the
+     * edge by d/ds (d phi/dy, -d phi/dx) (s from end 0 to end 1), linear
+     * since grad phi is quadratic along the edge (phi cubic). Any such
+     * change leaves every element in equilibrium: the resultant and moment
+     * on its boundary are the jumps of single-valued quantities around it.
+     */
+    struct AiryEdge
+    {
+      /// Its first slot (all four are in the patch).
+      unsigned int first_slot;
+      /// The end (0 or 1) at the patch's vertex.
+      unsigned int vertex_end;
+      /// The unit tangent from end 0 to end 1.
+      double tangent[2];
+      /// 1 / its length.
+      double inverse_length;
+      /// 1 / a length of the patch, to scale the change of phi.
+      double patch_scale;
+
+      /**
+       * The changes of the edge's four slots (rows) for a unit change of
+       * (patch_scale phi, d phi/dx, d phi/dy) at the patch's vertex and of
+       * the normal derivative at the edge's midpoint (columns), row by row;
+       * phi and grad phi vanish at the other end.
+       */
+      std::array<double, 16>
+      slot_changes() const;
+    };
+
     /// What the preconditioner keeps of the patch of one vertex.
     struct Patch
     {
@@ -132,29 +167,55 @@ namespace Signorini
       /// For each cell around the vertex (VertexPatches::cells_of_vertex()),
       /// the position in slots of each of its 12 values (-1: not changed).
       std::vector<std::array<int, 12>> positions;
+      /// When every edge through the vertex may change both components (an
+      /// Airy patch), its edges in the order of the slots; empty otherwise.
+      std::vector<AiryEdge> airy_edges;
       /// A basis Z of the changes of these slots keeping every element of
-      /// the patch in equilibrium (columns; SmallMatrices::kernel_basis()).
+      /// the patch in equilibrium (columns): written out for an Airy patch
+      /// (the first three columns from the vertex, then one per edge),
+      /// otherwise SmallMatrices::kernel_basis() of the constraints.
       FullMatrix<double> basis;
     };
 
-    /// The preconditioner's data of consecutive patches, stored contiguously.
+    /**
+     * The preconditioner's data of consecutive patches, stored
+     * contiguously. The correction of a patch is Z (Z^T H Z)^+ Z^T r for the
+     * residual r, H the Hessian of the restriction of J to the patch.
+     */
     struct PatchBlock
     {
-      /// Per patch: the number n of its slots and k of the columns of B,
-      /// B B^T = Z (Z^T H Z)^+ Z^T with H the Hessian of the restriction of
-      /// J to the patch (its correction is B B^T r for the residual r).
-      std::vector<std::array<unsigned int, 2>> sizes;
+      /// Per patch: the number n of its slots, k of the columns of Z and of
+      /// its Airy edges (0 if it is not an Airy patch).
+      std::vector<std::array<unsigned int, 3>> sizes;
       /// The slots of the patches, one after the other.
       std::vector<unsigned int> slots;
-      /// The factors B of the patches (n x k, row by row), one after the
-      /// other.
+      /// The patches other than Airy ones: factors B = Z L^-T with
+      /// B B^T = Z (Z^T H Z)^+ Z^T (n x k, row by row), one after the other.
       std::vector<double> factors;
+      /// The Airy patches: the first slot of each of their edges, one after
+      /// the other.
+      std::vector<unsigned int> airy_first_slots;
+      /// The Airy patches: AiryEdge::slot_changes() of each of their edges
+      /// (stored: evaluating them in each application took longer than
+      /// reading them).
+      std::vector<std::array<double, 16>> airy_changes;
+      /// The Airy patches: (Z^T H Z)^+ (k x k), in single precision: the
+      /// correction stays a combination of the columns of Z, exactly
+      /// equilibrated, whatever its coefficients.
+      std::vector<float> airy_inverses;
     };
 
     /// The patch of @p vertex into @p patch: its slots, their positions in
     /// its cells and the basis of its equilibrated changes.
     void
     describe_patch(const unsigned int vertex, Patch &patch) const;
+
+    /// The equilibrium of each cell of the patch of @p vertex (resultant,
+    /// moment about its centroid / its diameter; rows) for a unit value of
+    /// each of the slots of @p patch (columns).
+    FullMatrix<double>
+    equilibrium_constraints(const unsigned int vertex,
+                            const Patch       &patch) const;
 
     /// The cells and edges.
     const VertexPatches &patches;
