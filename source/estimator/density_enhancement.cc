@@ -386,8 +386,7 @@ namespace Signorini
             work.sizes.clear();
             work.slots.clear();
             work.factors.clear();
-            work.airy_first_slots.clear();
-            work.airy_changes.clear();
+            work.airy_columns.clear();
             work.airy_inverses.clear();
             const unsigned int first = block * patches_per_block;
             const unsigned int last =
@@ -430,8 +429,35 @@ namespace Signorini
                     factor.mTmult(inverse, factor);
                     for (const AiryEdge &airy_edge : patch.airy_edges)
                       {
-                        work.airy_first_slots.push_back(airy_edge.first_slot);
-                        work.airy_changes.push_back(airy_edge.slot_changes());
+                        const std::array<double, 16> changes =
+                          airy_edge.slot_changes();
+                        const unsigned int here = 2 * airy_edge.vertex_end;
+                        AiryColumns        columns;
+                        for (unsigned int c = 0; c < 2; ++c)
+                          for (unsigned int j = 0; j < 4; ++j)
+                            columns.at_vertex[4 * c + j] =
+                              changes[4 * (here + c) + j];
+                        columns.shift = 2. * airy_edge.inverse_length *
+                                        (airy_edge.vertex_end == 0 ? 1. : -1.);
+                        columns.first_slot = airy_edge.first_slot;
+                        columns.vertex_end = airy_edge.vertex_end;
+                        work.airy_columns.push_back(columns);
+                        // (the other end's rows, in Debug)
+                        for (unsigned int c = 0; c < 2; ++c)
+                          for (unsigned int j = 0; j < 4; ++j)
+                            Assert(std::abs(changes[4 * (2 - here + c) + j] +
+                                            columns.at_vertex[4 * c + j] -
+                                            (c == 1 && j == 1 ? columns.shift :
+                                             c == 0 && j == 2 ? -columns.shift :
+                                                                0.)) <=
+                                     1e-12 *
+                                       std::abs(*std::max_element(
+                                         changes.begin(),
+                                         changes.end(),
+                                         [](const double x, const double y) {
+                                           return std::abs(x) < std::abs(y);
+                                         })),
+                                   ExcInternalError());
                       }
                     work.airy_inverses.insert(work.airy_inverses.end(),
                                               &inverse(0, 0),
@@ -446,12 +472,11 @@ namespace Signorini
                                         &factor(0, 0) + n * k);
                   }
               }
-            blocks[block].sizes            = work.sizes;
-            blocks[block].slots            = work.slots;
-            blocks[block].factors          = work.factors;
-            blocks[block].airy_first_slots = work.airy_first_slots;
-            blocks[block].airy_changes     = work.airy_changes;
-            blocks[block].airy_inverses    = work.airy_inverses;
+            blocks[block].sizes         = work.sizes;
+            blocks[block].slots         = work.slots;
+            blocks[block].factors       = work.factors;
+            blocks[block].airy_columns  = work.airy_columns;
+            blocks[block].airy_inverses = work.airy_inverses;
           }
       },
       1);
@@ -470,7 +495,28 @@ namespace Signorini
     };
     // y = sum over the owned cells E of the 12 values v_E of @p cell_values
     // (12 per cell) at the slots of E's edges: gathered slot by slot from the
-    // (at most two) cells of its edge in increasing cell order
+    // (at most two) cells of its edge in increasing cell order, whose
+    // positions in cell_values are found once
+    std::vector<std::array<std::size_t, 2>> edge_sources(
+      n_slots / 4, {{numbers::invalid_size_type, numbers::invalid_size_type}});
+    parallel::apply_to_subranges(
+      0u,
+      n_slots / 4,
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int edge = begin; edge < end; ++edge)
+          {
+            unsigned int found = 0;
+            for (const unsigned int cell : patches.cells_of_edge(edge))
+              if (cell != numbers::invalid_unsigned_int && patches.owned(cell))
+                {
+                  const auto        &edges = patches.edges(cell);
+                  const unsigned int e =
+                    std::find(edges.begin(), edges.end(), edge) - edges.begin();
+                  edge_sources[edge][found++] = 12 * std::size_t(cell) + 4 * e;
+                }
+          }
+      },
+      1024);
     const auto sum_cell_values = [&](const std::vector<double> &cell_values,
                                      Vector<double>            &y) {
       y.reinit(n_slots, true);
@@ -481,17 +527,10 @@ namespace Signorini
           for (unsigned int edge = begin; edge < end; ++edge)
             {
               std::array<double, 4> sum = {{0., 0., 0., 0.}};
-              for (const unsigned int cell : patches.cells_of_edge(edge))
-                if (cell != numbers::invalid_unsigned_int &&
-                    patches.owned(cell))
-                  {
-                    const auto        &edges = patches.edges(cell);
-                    const unsigned int e =
-                      std::find(edges.begin(), edges.end(), edge) -
-                      edges.begin();
-                    for (unsigned int j = 0; j < 4; ++j)
-                      sum[j] += cell_values[12 * std::size_t(cell) + 4 * e + j];
-                  }
+              for (const std::size_t source : edge_sources[edge])
+                if (source != numbers::invalid_size_type)
+                  for (unsigned int j = 0; j < 4; ++j)
+                    sum[j] += cell_values[source + j];
               for (unsigned int j = 0; j < 4; ++j)
                 y[4 * edge + j] = sum[j];
             }
@@ -579,14 +618,12 @@ namespace Signorini
           std::vector<double> values(largest_patch), reduced(largest_patch);
           for (unsigned int b = begin; b < end; ++b)
             {
-              const PatchBlock   &block  = blocks[b];
-              const double       *factor = block.factors.data();
-              const unsigned int *airy_first_slot =
-                block.airy_first_slots.data();
-              const std::array<double, 16> *changes = block.airy_changes.data();
-              const float *inverse    = block.airy_inverses.data();
-              double      *correction = corrections.data() + block_offset[b];
-              std::size_t  first_slot = 0;
+              const PatchBlock  &block        = blocks[b];
+              const double      *factor       = block.factors.data();
+              const AiryColumns *airy_columns = block.airy_columns.data();
+              const float       *inverse      = block.airy_inverses.data();
+              double     *correction = corrections.data() + block_offset[b];
+              std::size_t first_slot = 0;
               for (const auto &[n, k, n_airy] : block.sizes)
                 {
                   if (k == 0)
@@ -597,15 +634,20 @@ namespace Signorini
                       std::fill(reduced.begin(), reduced.begin() + k, 0.);
                       for (unsigned int j = 0; j < n_airy; ++j)
                         {
-                          const double *r_edge = r.begin() + airy_first_slot[j];
-                          for (unsigned int row = 0; row < 4; ++row)
-                            {
-                              for (unsigned int i = 0; i < 3; ++i)
-                                reduced[i] +=
-                                  changes[j][4 * row + i] * r_edge[row];
-                              reduced[3 + j] +=
-                                changes[j][4 * row + 3] * r_edge[row];
-                            }
+                          const AiryColumns &edge = airy_columns[j];
+                          const double *r_edge    = r.begin() + edge.first_slot;
+                          const double *r_vertex = r_edge + 2 * edge.vertex_end;
+                          const double *r_other =
+                            r_edge + 2 - 2 * edge.vertex_end;
+                          const double difference[2] = {
+                            r_vertex[0] - r_other[0], r_vertex[1] - r_other[1]};
+                          for (unsigned int i = 0; i < 3; ++i)
+                            reduced[i] += edge.at_vertex[i] * difference[0] +
+                                          edge.at_vertex[4 + i] * difference[1];
+                          reduced[1] += edge.shift * r_other[1];
+                          reduced[2] -= edge.shift * r_other[0];
+                          reduced[3 + j] = edge.at_vertex[3] * difference[0] +
+                                           edge.at_vertex[7] * difference[1];
                         }
                       for (unsigned int i = 0; i < k; ++i)
                         {
@@ -615,16 +657,25 @@ namespace Signorini
                           values[i] = value;
                         }
                       for (unsigned int j = 0; j < n_airy; ++j)
-                        for (unsigned int row = 0; row < 4; ++row)
-                          {
-                            double value =
-                              changes[j][4 * row + 3] * values[3 + j];
-                            for (unsigned int i = 0; i < 3; ++i)
-                              value += changes[j][4 * row + i] * values[i];
-                            correction[4 * j + row] = value;
-                          }
-                      airy_first_slot += n_airy;
-                      changes += n_airy;
+                        {
+                          const AiryColumns &edge = airy_columns[j];
+                          double            *vertex_end =
+                            correction + 4 * j + 2 * edge.vertex_end;
+                          double *other_end =
+                            correction + 4 * j + 2 - 2 * edge.vertex_end;
+                          for (unsigned int c = 0; c < 2; ++c)
+                            {
+                              double value =
+                                edge.at_vertex[4 * c + 3] * values[3 + j];
+                              for (unsigned int i = 0; i < 3; ++i)
+                                value += edge.at_vertex[4 * c + i] * values[i];
+                              vertex_end[c] = value;
+                              other_end[c]  = -value;
+                            }
+                          other_end[1] += edge.shift * values[1];
+                          other_end[0] -= edge.shift * values[2];
+                        }
+                      airy_columns += n_airy;
                       inverse += std::size_t(k) * k;
                     }
                   else

@@ -159,6 +159,25 @@ namespace Signorini
       slot_changes() const;
     };
 
+    /**
+     * The rows of Z of an edge of an Airy patch as the preconditioner keeps
+     * them: by AiryEdge::slot_changes(), the rows at the other end are
+     * minus those at the vertex's end, plus t = 2 s w in (component 1,
+     * column 1) and -t in (component 0, column 2), s = +1 if the vertex is
+     * end 0, -1 otherwise.
+     */
+    struct AiryColumns
+    {
+      /// The rows at the vertex's end (component c, column j at 4 c + j).
+      std::array<double, 8> at_vertex;
+      /// t.
+      double shift;
+      /// The edge's first slot.
+      unsigned int first_slot;
+      /// The end at the vertex.
+      unsigned int vertex_end;
+    };
+
     /// What the preconditioner keeps of the patch of one vertex.
     struct Patch
     {
@@ -192,13 +211,8 @@ namespace Signorini
       /// The patches other than Airy ones: factors B = Z L^-T with
       /// B B^T = Z (Z^T H Z)^+ Z^T (n x k, row by row), one after the other.
       std::vector<double> factors;
-      /// The Airy patches: the first slot of each of their edges, one after
-      /// the other.
-      std::vector<unsigned int> airy_first_slots;
-      /// The Airy patches: AiryEdge::slot_changes() of each of their edges
-      /// (stored: evaluating them in each application took longer than
-      /// reading them).
-      std::vector<std::array<double, 16>> airy_changes;
+      /// The Airy patches: their edges, one after the other.
+      std::vector<AiryColumns> airy_columns;
       /// The Airy patches: (Z^T H Z)^+ (k x k), in single precision: the
       /// correction stays a combination of the columns of Z, exactly
       /// equilibrated, whatever its coefficients.
