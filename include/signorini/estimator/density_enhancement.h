@@ -163,8 +163,8 @@ namespace Signorini
      * The rows of Z of an edge of an Airy patch as the preconditioner keeps
      * them: by AiryEdge::slot_changes(), the rows at the other end are
      * minus those at the vertex's end, plus t = 2 s w in (component 1,
-     * column 1) and -t in (component 0, column 2), s = +1 if the vertex is
-     * end 0, -1 otherwise.
+     * column 1) and -t in (component 0, column 2), w = 1 / the edge's
+     * length and s = +1 if the vertex is end 0, -1 otherwise.
      */
     struct AiryColumns
     {
