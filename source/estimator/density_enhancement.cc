@@ -73,59 +73,69 @@ namespace Signorini
              SmallMatrices::kernel_basis(constraints).n() == basis.n() &&
              SmallMatrices::kernel_basis(basis).n() == 0;
     }
+
+
+
+    /**
+     * The changes of the four slots (rows) of an edge of unit tangent
+     * @p tangent (end 0 to end 1) and 1 / length @p inverse_length for a unit
+     * change of (@p patch_scale phi, d phi/dx, d phi/dy) at its end
+     * @p vertex_end and of the normal derivative at its midpoint (columns),
+     * row by row (DensityEnhancement::AiryColumns).
+     */
+    std::array<double, 16>
+    airy_slot_changes(const double       tangent[2],
+                      const double       inverse_length,
+                      const unsigned int vertex_end,
+                      const double       patch_scale)
+    {
+      // with R v = (v_y, -v_x), the reference normal nu = R tau, w = 1 /
+      // length and s = +1 if the vertex is end 0, -1 otherwise: grad phi at
+      // the midpoint is
+      //   G_m = (-3/2 s w phi - G . tau / 4) tau + (G . nu / 2 + beta) nu
+      // for (phi, G = grad phi) at the vertex and beta the change of the
+      // normal derivative (the cubic Hermite interpolant along the edge,
+      // whose derivative integrates to the change of phi: the moment
+      // balance), and the traction at the vertex's end and at the other end
+      //   s w R (4 G_m - 3 G),  s w R (G - 4 G_m)
+      // (the derivative of the quadratic through the ends and the midpoint)
+      const double w = inverse_length, s = vertex_end == 0 ? 1. : -1.;
+      const double tau[2] = {tangent[0], tangent[1]};
+      const double nu[2]  = {tau[1], -tau[0]};
+      // row of component c at the vertex's end and at the other
+      const unsigned int     here = 2 * vertex_end, there = 2 - here;
+      std::array<double, 16> changes;
+      // phi = 1 / patch_scale: G_m = -3/2 s w phi tau, R tau = nu
+      const double phi_change = 6. * w * w / patch_scale;
+      // beta = 1: G_m = nu, R nu = -tau
+      const double beta_change = 4. * s * w;
+      for (unsigned int c = 0; c < 2; ++c)
+        {
+          changes[4 * (here + c)]      = -phi_change * nu[c];
+          changes[4 * (there + c)]     = phi_change * nu[c];
+          changes[4 * (here + c) + 3]  = -beta_change * tau[c];
+          changes[4 * (there + c) + 3] = beta_change * tau[c];
+        }
+      // G = e_j: 4 G_m - 3 e_j = -tau_j tau + 2 nu_j nu - 3 e_j, and
+      // e_j - 4 G_m = -(4 G_m - 3 e_j) - 2 e_j
+      for (unsigned int j = 0; j < 2; ++j)
+        {
+          double v[2];
+          for (unsigned int c = 0; c < 2; ++c)
+            v[c] = -tau[j] * tau[c] + 2. * nu[j] * nu[c] - (c == j ? 3. : 0.);
+          // R v = (v_y, -v_x)
+          const double at_vertex[2] = {s * w * v[1], -s * w * v[0]};
+          const double unit_r[2]    = {j == 1 ? 1. : 0., j == 0 ? -1. : 0.};
+          for (unsigned int c = 0; c < 2; ++c)
+            {
+              changes[4 * (here + c) + 1 + j] = at_vertex[c];
+              changes[4 * (there + c) + 1 + j] =
+                -at_vertex[c] - 2. * s * w * unit_r[c];
+            }
+        }
+      return changes;
+    }
   } // namespace
-
-
-
-  std::array<double, 16>
-  DensityEnhancement::AiryEdge::slot_changes() const
-  {
-    // with R v = (v_y, -v_x), the reference normal nu = R tau, w = 1 /
-    // length and s = +1 if the vertex is end 0, -1 otherwise: grad phi at
-    // the midpoint is
-    //   G_m = (-3/2 s w phi - G . tau / 4) tau + (G . nu / 2 + beta) nu
-    // for (phi, G = grad phi) at the vertex and beta the change of the
-    // normal derivative (the cubic Hermite interpolant along the edge,
-    // whose derivative integrates to the change of phi: the moment
-    // balance), and the traction at the vertex's end and at the other end
-    //   s w R (4 G_m - 3 G),  s w R (G - 4 G_m)
-    // (the derivative of the quadratic through the ends and the midpoint)
-    const double w = inverse_length, s = vertex_end == 0 ? 1. : -1.;
-    const double tau[2] = {tangent[0], tangent[1]};
-    const double nu[2]  = {tau[1], -tau[0]};
-    // row of component c at the vertex's end and at the other
-    const unsigned int     here = 2 * vertex_end, there = 2 - here;
-    std::array<double, 16> changes;
-    // phi = 1 / patch_scale: G_m = -3/2 s w phi tau, R tau = nu
-    const double phi_change = 6. * w * w / patch_scale;
-    // beta = 1: G_m = nu, R nu = -tau
-    const double beta_change = 4. * s * w;
-    for (unsigned int c = 0; c < 2; ++c)
-      {
-        changes[4 * (here + c)]      = -phi_change * nu[c];
-        changes[4 * (there + c)]     = phi_change * nu[c];
-        changes[4 * (here + c) + 3]  = -beta_change * tau[c];
-        changes[4 * (there + c) + 3] = beta_change * tau[c];
-      }
-    // G = e_j: 4 G_m - 3 e_j = -tau_j tau + 2 nu_j nu - 3 e_j, and
-    // e_j - 4 G_m = -(4 G_m - 3 e_j) - 2 e_j
-    for (unsigned int j = 0; j < 2; ++j)
-      {
-        double v[2];
-        for (unsigned int c = 0; c < 2; ++c)
-          v[c] = -tau[j] * tau[c] + 2. * nu[j] * nu[c] - (c == j ? 3. : 0.);
-        // R v = (v_y, -v_x)
-        const double at_vertex[2] = {s * w * v[1], -s * w * v[0]};
-        const double unit_r[2]    = {j == 1 ? 1. : 0., j == 0 ? -1. : 0.};
-        for (unsigned int c = 0; c < 2; ++c)
-          {
-            changes[4 * (here + c) + 1 + j] = at_vertex[c];
-            changes[4 * (there + c) + 1 + j] =
-              -at_vertex[c] - 2. * s * w * unit_r[c];
-          }
-      }
-    return changes;
-  }
 
 
 
@@ -203,7 +213,7 @@ namespace Signorini
           }
       }
     const unsigned int n = patch.slots.size();
-    patch.airy_edges.clear();
+    patch.airy_columns.clear();
     if (n == 0)
       {
         patch.basis.reinit(0, 0);
@@ -222,29 +232,53 @@ namespace Signorini
       {
         const unsigned int n_edges = edge_start.size();
         patch.basis.reinit(n, 3 + n_edges);
+        double patch_scale = 0.;
         for (unsigned int j = 0; j < n_edges; ++j)
           {
-            const unsigned int edge   = edge_start[j].first;
-            const Point<2>    &a      = vertices[edge_vertices[edge][0]];
-            const Point<2>    &b      = vertices[edge_vertices[edge][1]];
-            const double       length = a.distance(b);
-            AiryEdge           airy_edge;
-            airy_edge.first_slot     = slot(edge, 0, 0);
-            airy_edge.vertex_end     = edge_vertices[edge][0] == vertex ? 0 : 1;
-            airy_edge.tangent[0]     = (b[0] - a[0]) / length;
-            airy_edge.tangent[1]     = (b[1] - a[1]) / length;
-            airy_edge.inverse_length = 1. / length;
-            airy_edge.patch_scale    = j == 0 ? airy_edge.inverse_length :
-                                                patch.airy_edges[0].patch_scale;
-            patch.airy_edges.push_back(airy_edge);
+            const unsigned int edge       = edge_start[j].first;
+            const Point<2>    &a          = vertices[edge_vertices[edge][0]];
+            const Point<2>    &b          = vertices[edge_vertices[edge][1]];
+            const double       length     = a.distance(b);
+            const double       tangent[2] = {(b[0] - a[0]) / length,
+                                             (b[1] - a[1]) / length};
+            const unsigned int vertex_end =
+              edge_vertices[edge][0] == vertex ? 0 : 1;
+            if (j == 0)
+              patch_scale = 1. / length;
+            const std::array<double, 16> changes =
+              airy_slot_changes(tangent, 1. / length, vertex_end, patch_scale);
             // (the edge's slots are positions 4 j to 4 j + 3, in slot order)
-            const std::array<double, 16> changes = airy_edge.slot_changes();
             for (unsigned int row = 0; row < 4; ++row)
               {
                 for (unsigned int column = 0; column < 3; ++column)
                   patch.basis(4 * j + row, column) = changes[4 * row + column];
                 patch.basis(4 * j + row, 3 + j) = changes[4 * row + 3];
               }
+            // the rows at the vertex's end (the other end's follow from
+            // them, checked in Debug)
+            AiryColumns        columns;
+            const unsigned int here = 2 * vertex_end;
+            for (unsigned int c = 0; c < 2; ++c)
+              for (unsigned int i = 0; i < 4; ++i)
+                columns.at_vertex[4 * c + i] = changes[4 * (here + c) + i];
+            columns.shift      = (vertex_end == 0 ? 2. : -2.) / length;
+            columns.first_slot = slot(edge, 0, 0);
+            columns.vertex_end = vertex_end;
+            patch.airy_columns.push_back(columns);
+            for (unsigned int c = 0; c < 2; ++c)
+              for (unsigned int i = 0; i < 4; ++i)
+                Assert(std::abs(changes[4 * (2 - here + c) + i] +
+                                columns.at_vertex[4 * c + i] -
+                                (c == 1 && i == 1 ? columns.shift :
+                                 c == 0 && i == 2 ? -columns.shift :
+                                                    0.)) <=
+                         1e-12 * std::abs(*std::max_element(
+                                   changes.begin(),
+                                   changes.end(),
+                                   [](const double x, const double y) {
+                                     return std::abs(x) < std::abs(y);
+                                   })),
+                       ExcInternalError());
           }
         Assert(is_kernel_basis(equilibrium_constraints(vertex, patch),
                                patch.basis),
@@ -396,7 +430,7 @@ namespace Signorini
               {
                 describe_patch(computed[p], patch);
                 const unsigned int n = patch.slots.size(), k = patch.basis.n(),
-                                   n_airy = patch.airy_edges.size();
+                                   n_airy = patch.airy_columns.size();
                 work.sizes.push_back({{n, k, n_airy}});
                 work.slots.insert(work.slots.end(),
                                   patch.slots.begin(),
@@ -427,38 +461,9 @@ namespace Signorini
                                         reduced);
                     inverse.reinit(k, k);
                     factor.mTmult(inverse, factor);
-                    for (const AiryEdge &airy_edge : patch.airy_edges)
-                      {
-                        const std::array<double, 16> changes =
-                          airy_edge.slot_changes();
-                        const unsigned int here = 2 * airy_edge.vertex_end;
-                        AiryColumns        columns;
-                        for (unsigned int c = 0; c < 2; ++c)
-                          for (unsigned int j = 0; j < 4; ++j)
-                            columns.at_vertex[4 * c + j] =
-                              changes[4 * (here + c) + j];
-                        columns.shift = 2. * airy_edge.inverse_length *
-                                        (airy_edge.vertex_end == 0 ? 1. : -1.);
-                        columns.first_slot = airy_edge.first_slot;
-                        columns.vertex_end = airy_edge.vertex_end;
-                        work.airy_columns.push_back(columns);
-                        // (the other end's rows, in Debug)
-                        for (unsigned int c = 0; c < 2; ++c)
-                          for (unsigned int j = 0; j < 4; ++j)
-                            Assert(std::abs(changes[4 * (2 - here + c) + j] +
-                                            columns.at_vertex[4 * c + j] -
-                                            (c == 1 && j == 1 ? columns.shift :
-                                             c == 0 && j == 2 ? -columns.shift :
-                                                                0.)) <=
-                                     1e-12 *
-                                       std::abs(*std::max_element(
-                                         changes.begin(),
-                                         changes.end(),
-                                         [](const double x, const double y) {
-                                           return std::abs(x) < std::abs(y);
-                                         })),
-                                   ExcInternalError());
-                      }
+                    work.airy_columns.insert(work.airy_columns.end(),
+                                             patch.airy_columns.begin(),
+                                             patch.airy_columns.end());
                     work.airy_inverses.insert(work.airy_inverses.end(),
                                               &inverse(0, 0),
                                               &inverse(0, 0) + k * k);

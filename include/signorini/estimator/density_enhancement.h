@@ -40,7 +40,7 @@ namespace Signorini
    * components; boundary edges: their Dirichlet components; loaded and
    * contact components keep their data) under the equilibrium of each
    * element of the patch, and minimises its restriction of J exactly: over
-   * the changes written out from an Airy function (AiryEdge) when every edge
+   * the changes written out from an Airy function (AiryColumns) when every edge
    * through the vertex may change both components, otherwise over a kernel
    * computed by elimination. Each patch correction keeps every element in
    * equilibrium, so does every iterate: sigma^ stays statically admissible
@@ -127,44 +127,19 @@ namespace Signorini
 
   private:
     /**
-     * An edge of a patch whose equilibrated changes are written out
-     * (Airy patches, describe_patch()): a change of the Airy function phi
-     * of the stress at the patch's vertex (phi, grad phi) and of the normal
-     * derivative of phi at the edge's midpoint changes the traction on the
-     * edge by d/ds (d phi/dy, -d phi/dx) (s from end 0 to end 1), linear
-     * since grad phi is quadratic along the edge (phi cubic). Any such
-     * change leaves every element in equilibrium: the resultant and moment
-     * on its boundary are the jumps of single-valued quantities around it.
-     */
-    struct AiryEdge
-    {
-      /// Its first slot (all four are in the patch).
-      unsigned int first_slot;
-      /// The end (0 or 1) at the patch's vertex.
-      unsigned int vertex_end;
-      /// The unit tangent from end 0 to end 1.
-      double tangent[2];
-      /// 1 / its length.
-      double inverse_length;
-      /// 1 / a length of the patch, to scale the change of phi.
-      double patch_scale;
-
-      /**
-       * The changes of the edge's four slots (rows) for a unit change of
-       * (patch_scale phi, d phi/dx, d phi/dy) at the patch's vertex and of
-       * the normal derivative at the edge's midpoint (columns), row by row;
-       * phi and grad phi vanish at the other end.
-       */
-      std::array<double, 16>
-      slot_changes() const;
-    };
-
-    /**
-     * The rows of Z of an edge of an Airy patch as the preconditioner keeps
-     * them: by AiryEdge::slot_changes(), the rows at the other end are
-     * minus those at the vertex's end, plus t = 2 s w in (component 1,
-     * column 1) and -t in (component 0, column 2), w = 1 / the edge's
-     * length and s = +1 if the vertex is end 0, -1 otherwise.
+     * The rows of Z of an edge of an Airy patch (describe_patch()): a change
+     * of the Airy function phi of the stress at the patch's vertex (phi,
+     * grad phi; zero at the edge's other end) and of the normal derivative
+     * of phi at the edge's midpoint changes the traction on the edge by
+     * d/ds (d phi/dy, -d phi/dx) (s from end 0 to end 1), linear since grad
+     * phi is quadratic along the edge (phi cubic). Any such change leaves
+     * every element in equilibrium: the resultant and moment on its
+     * boundary are the jumps of single-valued quantities around it. The
+     * columns are (phi / h, d phi/dx, d phi/dy, the normal derivative), h a
+     * length of the patch. The rows at the other end are minus those at
+     * the vertex's end, plus t = 2 s w in (component 1, column 1) and -t in
+     * (component 0, column 2), w = 1 / the edge's length and s = +1 if the
+     * vertex is end 0, -1 otherwise.
      */
     struct AiryColumns
     {
@@ -187,8 +162,9 @@ namespace Signorini
       /// the position in slots of each of its 12 values (-1: not changed).
       std::vector<std::array<int, 12>> positions;
       /// When every edge through the vertex may change both components (an
-      /// Airy patch), its edges in the order of the slots; empty otherwise.
-      std::vector<AiryEdge> airy_edges;
+      /// Airy patch), the rows of Z of its edges in the order of the slots;
+      /// empty otherwise.
+      std::vector<AiryColumns> airy_columns;
       /// A basis Z of the changes of these slots keeping every element of
       /// the patch in equilibrium (columns): written out for an Airy patch
       /// (the first three columns from the vertex, then one per edge),
