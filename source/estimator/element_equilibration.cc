@@ -1722,7 +1722,8 @@ namespace Signorini
                       const ElementQuadratic      &element_quadratic,
                       const unsigned int           max_iterations,
                       const double                 tolerance,
-                      std::vector<EdgeData>       &edges)
+                      const DensityEnhancement::RegionSettings &regions,
+                      std::vector<EdgeData>                    &edges)
     {
       std::vector<std::array<unsigned int, 2>> edge_vertices(edges.size());
       std::vector<std::array<bool, 2>>         free_components(edges.size());
@@ -1747,6 +1748,7 @@ namespace Signorini
         },
         max_iterations,
         tolerance,
+        regions,
         slots);
       from_slots(patches, enhancement, slots, &EdgeData::density, edges);
     }
@@ -1863,6 +1865,19 @@ namespace Signorini
                       "Stop the enhancement when an iteration decreases the "
                       "error measure by at most this fraction of the "
                       "decrease so far.");
+    prm.declare_entry("Enhancement regions",
+                      "3",
+                      Patterns::Integer(0, 100),
+                      "Triangles: at most how many regions the "
+                      "preconditioner of the enhancement solves at once "
+                      "besides the vertex patches, around the vertices whose "
+                      "patch alone would make at least 1/200 of the "
+                      "decrease of all patches (singular points).");
+    prm.declare_entry("Enhancement region rings",
+                      "6",
+                      Patterns::Integer(0, 50),
+                      "Triangles: the radius of each region, in rings of "
+                      "cells around its vertex.");
     prm.declare_entry("Simplex implementation",
                       "false",
                       Patterns::Bool(),
@@ -1883,6 +1898,10 @@ namespace Signorini
         element_stress_names<dim>().value(prm.get("Element stress")))
     , enhancement_iterations(prm.get_integer("Enhancement iterations"))
     , enhancement_tolerance(prm.get_double("Enhancement tolerance"))
+    , enhancement_regions{static_cast<unsigned int>(
+                            prm.get_integer("Enhancement regions")),
+                          static_cast<unsigned int>(
+                            prm.get_integer("Enhancement region rings"))}
     , simplex_implementation(prm.get_bool("Simplex implementation"))
   {
     if (simplex_implementation && element_stress == ElementStress::equilibrated)
@@ -2012,6 +2031,7 @@ namespace Signorini
           },
           enhancement_iterations,
           enhancement_tolerance,
+          enhancement_regions,
           edges);
       }
 

@@ -8,30 +8,77 @@ namespace Signorini
 {
   namespace SmallMatrices
   {
+    namespace
+    {
+      /**
+       * The Cholesky factor of @p matrix into its lower triangle. A pivot
+       * of row j not above @p tolerance(j) ends it with -1 if
+       * @p drop_small is false; otherwise the row is left out (a zero
+       * column of L). Returns the number of rows left out.
+       */
+      template <typename Tolerance>
+      int
+      factorise(FullMatrix<double> &matrix,
+                const Tolerance    &tolerance,
+                const bool          drop_small)
+      {
+        const unsigned int n       = matrix.m();
+        int                dropped = 0;
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            double pivot = matrix(j, j);
+            for (unsigned int k = 0; k < j; ++k)
+              pivot -= matrix(j, k) * matrix(j, k);
+            if (!(pivot > tolerance(j)) || !(pivot > 0.))
+              {
+                if (!drop_small)
+                  return -1;
+                for (unsigned int i = j; i < n; ++i)
+                  matrix(i, j) = 0.;
+                ++dropped;
+                continue;
+              }
+            matrix(j, j) = std::sqrt(pivot);
+            for (unsigned int i = j + 1; i < n; ++i)
+              {
+                double value = matrix(i, j);
+                for (unsigned int k = 0; k < j; ++k)
+                  value -= matrix(i, k) * matrix(j, k);
+                matrix(i, j) = value / matrix(j, j);
+              }
+          }
+        return dropped;
+      }
+    } // namespace
+
+
+
     bool
     cholesky(FullMatrix<double> &matrix, const double relative_tolerance)
     {
-      const unsigned int n       = matrix.m();
-      double             largest = 0.;
-      for (unsigned int i = 0; i < n; ++i)
+      double largest = 0.;
+      for (unsigned int i = 0; i < matrix.m(); ++i)
         largest = std::max(largest, matrix(i, i));
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          double pivot = matrix(j, j);
-          for (unsigned int k = 0; k < j; ++k)
-            pivot -= matrix(j, k) * matrix(j, k);
-          if (!(pivot > relative_tolerance * largest) || !(pivot > 0.))
-            return false;
-          matrix(j, j) = std::sqrt(pivot);
-          for (unsigned int i = j + 1; i < n; ++i)
-            {
-              double value = matrix(i, j);
-              for (unsigned int k = 0; k < j; ++k)
-                value -= matrix(i, k) * matrix(j, k);
-              matrix(i, j) = value / matrix(j, j);
-            }
-        }
-      return true;
+      const double tolerance = relative_tolerance * largest;
+      return factorise(
+               matrix,
+               [tolerance](unsigned int) { return tolerance; },
+               false) == 0;
+    }
+
+
+
+    unsigned int
+    semidefinite_cholesky(FullMatrix<double> &matrix,
+                          const double        relative_tolerance)
+    {
+      // (row j's diagonal entry is still the original one when j is reached)
+      return factorise(
+        matrix,
+        [&matrix, relative_tolerance](const unsigned int j) {
+          return relative_tolerance * matrix(j, j);
+        },
+        true);
     }
 
 
@@ -42,6 +89,11 @@ namespace Signorini
       const unsigned int n = factor.m();
       for (unsigned int i = 0; i < n; ++i)
         {
+          if (factor(i, i) == 0.)
+            {
+              b[i] = 0.;
+              continue;
+            }
           double value = b[i];
           for (unsigned int k = 0; k < i; ++k)
             value -= factor(i, k) * b[k];
@@ -49,6 +101,8 @@ namespace Signorini
         }
       for (unsigned int i = n; i-- > 0;)
         {
+          if (factor(i, i) == 0.)
+            continue;
           double value = b[i];
           for (unsigned int k = i + 1; k < n; ++k)
             value -= factor(k, i) * b[k];

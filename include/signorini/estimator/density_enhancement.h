@@ -103,6 +103,19 @@ namespace Signorini
     double
     sign(const unsigned int edge, const unsigned int cell) const;
 
+    /**
+     * The regions solved at once in the preconditioner (RegionCorrection):
+     * up to @p count of them, each the vertices within @p rings rings of
+     * cells of a seed vertex.
+     */
+    struct RegionSettings
+    {
+      /// How many regions (0: the vertex patches alone).
+      unsigned int count = 0;
+      /// Their radius, in rings of cells around the seed.
+      unsigned int rings = 0;
+    };
+
     /// What run() did.
     struct Result
     {
@@ -123,6 +136,7 @@ namespace Signorini
     run(const std::function<ElementQuadratic(unsigned int)> &element_quadratic,
         const unsigned int                                   max_iterations,
         const double                                         tolerance,
+        const RegionSettings                                &regions,
         Vector<double>                                      &densities) const;
 
   private:
@@ -194,6 +208,51 @@ namespace Signorini
       /// equilibrated, whatever its coefficients.
       std::vector<float> airy_inverses;
     };
+
+    /**
+     * A coarse correction of the preconditioner, where the vertex patches
+     * alone converge slowly. At a singular point (the clamped loaded corner
+     * of the block) the change of the densities that J needs spans several
+     * rings of patches, which additive patch corrections only build up over
+     * many iterations (27 on the block against 10 on a smooth solution, at
+     * the same tolerance). A region, the vertices within a few rings of a
+     * seed vertex, is minimised over at once: over the span W of the columns
+     * of its vertices' patches, the correction W (W^T H W)^+ W^T r. It is a
+     * combination of patch changes, so it keeps every element in
+     * equilibrium.
+     */
+    struct RegionCorrection
+    {
+      /// The slots its columns change.
+      std::vector<unsigned int> slots;
+      /// W, column by column: (position in slots, value).
+      std::vector<std::vector<std::pair<unsigned int, double>>> columns;
+      /// The Cholesky factor of W^T H W (SmallMatrices::
+      /// semidefinite_cholesky(): the columns of W that depend on earlier
+      /// ones, as the normal derivative of an edge shared by the patches of
+      /// its two ends, are dropped).
+      FullMatrix<double> factor;
+
+      /// @p z += W (W^T H W)^+ W^T @p r.
+      void
+      add_correction(const Vector<double> &r, Vector<double> &z) const;
+    };
+
+    /// The vertices within @p rings rings of cells around @p seed, in
+    /// increasing order, the same on every rank.
+    std::vector<unsigned int>
+    region_vertices(const unsigned int seed, const unsigned int rings) const;
+
+    /**
+     * The correction of the region of the vertices @p region
+     * (region_vertices()) with the element Hessians @p hessians (144 per
+     * cell, by active cell index; those of the owned cells are read), the
+     * same on every rank: each patch is described by the rank that computes
+     * it and each cell's Hessian comes from its owner.
+     */
+    RegionCorrection
+    describe_region(const std::vector<unsigned int> &region,
+                    const std::vector<float>        &hessians) const;
 
     /// The patch of @p vertex into @p patch: its slots, their positions in
     /// its cells and the basis of its equilibrated changes.

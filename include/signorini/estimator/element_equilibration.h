@@ -1,6 +1,7 @@
 #ifndef signorini_estimator_element_equilibration_h
 #define signorini_estimator_element_equilibration_h
 
+#include <signorini/estimator/density_enhancement.h>
 #include <signorini/estimator/stress_reconstruction.h>
 
 namespace Signorini
@@ -102,6 +103,9 @@ namespace Signorini
     unsigned int enhancement_iterations;
     /// Its stopping tolerance ("Enhancement tolerance").
     double enhancement_tolerance;
+    /// The regions its preconditioner solves at once ("Enhancement regions",
+    /// "Enhancement region rings").
+    DensityEnhancement::RegionSettings enhancement_regions;
     /// Whether triangles are computed by compute_on_simplices() too
     /// ("Simplex implementation").
     bool simplex_implementation;

@@ -25,8 +25,21 @@ namespace Signorini
     bool
     cholesky(FullMatrix<double> &matrix, const double relative_tolerance = 0.);
 
+    /**
+     * The Cholesky factor of a symmetric positive semi-definite @p matrix
+     * into its lower triangle, leaving out (a zero column of L) every row
+     * whose pivot is not above @p relative_tolerance times its own diagonal
+     * entry: a row that depends on the earlier ones. cholesky_solve() with
+     * it gives the solution with zero in those entries, a solution of the
+     * system if it is consistent. Returns the number of rows left out.
+     */
+    unsigned int
+    semidefinite_cholesky(FullMatrix<double> &matrix,
+                          const double        relative_tolerance);
+
     /// Solve L L^T x = b in place (@p b becomes x) with the factor L of
-    /// cholesky() (its lower triangle).
+    /// cholesky() (its lower triangle), or of semidefinite_cholesky() (x is
+    /// zero where L has a zero diagonal entry).
     void
     cholesky_solve(const FullMatrix<double> &factor, Vector<double> &b);
 
