@@ -1865,9 +1865,11 @@ namespace Signorini
                       "Stop the enhancement when an iteration decreases the "
                       "error measure by at most this fraction of the "
                       "decrease so far.");
+    // (a region is one dense factor of about 6 columns per vertex: 12
+    // rings, some 470 vertices, already take seconds)
     prm.declare_entry("Enhancement regions",
                       "3",
-                      Patterns::Integer(0, 100),
+                      Patterns::Integer(0, 20),
                       "Triangles: at most how many regions the "
                       "preconditioner of the enhancement solves at once "
                       "besides the vertex patches, around the vertices whose "
@@ -1875,7 +1877,7 @@ namespace Signorini
                       "decrease of all patches (singular points).");
     prm.declare_entry("Enhancement region rings",
                       "6",
-                      Patterns::Integer(0, 50),
+                      Patterns::Integer(0, 12),
                       "Triangles: the radius of each region, in rings of "
                       "cells around its vertex.");
     prm.declare_entry("Simplex implementation",
