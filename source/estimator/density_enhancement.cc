@@ -6,7 +6,6 @@
 #include <signorini/estimator/small_matrices.h>
 
 #include <algorithm>
-#include <limits>
 
 namespace Signorini
 {
@@ -1059,7 +1058,7 @@ namespace Signorini
               Utilities::MPI::min(candidate != decrease_of_patch.end() &&
                                       candidate->first == best ?
                                     candidate->second :
-                                    std::numeric_limits<unsigned int>::max(),
+                                    numbers::invalid_unsigned_int,
                                   communicator);
             const std::vector<unsigned int> region =
               region_vertices(seed, regions.rings);
