@@ -496,9 +496,10 @@ main()
             t                  = equilibrated(x, t, f);
             const double scale = std::max(t.linfty_norm(), h * largest_force);
 
-            const Vector<double> x_h = apply(r, t, f);
-            const double defect      = element.constraint_defect(x, x_h, t, f);
-            worst_defect             = std::max(worst_defect, defect);
+            const Vector<double> x_h    = apply(r, t, f);
+            const double         defect = element.constraint_defect(
+              x, make_array_view(x_h), make_array_view(t), f);
+            worst_defect = std::max(worst_defect, defect);
             defect_ok &= defect < 1e-12;
 
             for (unsigned int e = 0; e < 3; ++e)
@@ -636,14 +637,16 @@ main()
         C.vmult_add(residual, x_h);
         Vector<double> normal(JM::n_coefficients);
         C.Tvmult(normal, residual);
-        deallog
-          << "  non-equilibrated data: defect > 1e-3 "
-          << yes_no(element.constraint_defect(x, x_h, t, constant_force(f)) >
-                      1e-3,
-                    failures)
-          << ", C^T (C x - b) = 0 (least squares) "
-          << yes_no(normal.linfty_norm() < 1e-12 * t.linfty_norm(), failures)
-          << std::endl;
+        deallog << "  non-equilibrated data: defect > 1e-3 "
+                << yes_no(element.constraint_defect(x,
+                                                    make_array_view(x_h),
+                                                    make_array_view(t),
+                                                    constant_force(f)) > 1e-3,
+                          failures)
+                << ", C^T (C x - b) = 0 (least squares) "
+                << yes_no(normal.linfty_norm() < 1e-12 * t.linfty_norm(),
+                          failures)
+                << std::endl;
       }
     }
 

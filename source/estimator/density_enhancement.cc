@@ -1,3 +1,4 @@
+#include <deal.II/base/aligned_vector.h>
 #include <deal.II/base/parallel.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -421,8 +422,9 @@ namespace Signorini
 
 
   DensityEnhancement::RegionCorrection
-  DensityEnhancement::describe_region(const std::vector<unsigned int> &region,
-                                      const std::vector<float> &hessians) const
+  DensityEnhancement::describe_region(
+    const std::vector<unsigned int> &region,
+    const ArrayView<const float>    &hessians) const
   {
     // the columns of the patches this rank computes, flat: vertex, edge of
     // the column (the normal derivative of an Airy patch's edge) or -1,
@@ -626,8 +628,8 @@ namespace Signorini
     // not the admissibility of any iterate, which only the patch
     // corrections decide
     constexpr unsigned int hessian_size = 144;
-    std::vector<float>     hessians(hessian_size * std::size_t(n_cells));
-    std::vector<double>    cell_values(12 * std::size_t(n_cells));
+    AlignedVector<float>   hessians(hessian_size * std::size_t(n_cells));
+    AlignedVector<double>  cell_values(12 * std::size_t(n_cells));
     parallel::apply_to_subranges(
       0u,
       n_cells,
@@ -768,7 +770,7 @@ namespace Signorini
     // at 1.6M DoFs)
     AssertThrow(12 * std::size_t(n_cells) < numbers::invalid_unsigned_int,
                 ExcMessage("too many cells for the enhanced densities"));
-    std::vector<std::array<unsigned int, 2>> edge_sources(
+    AlignedVector<std::array<unsigned int, 2>> edge_sources(
       n_slots / 4,
       {{numbers::invalid_unsigned_int, numbers::invalid_unsigned_int}});
     parallel::apply_to_subranges(
@@ -789,8 +791,8 @@ namespace Signorini
           }
       },
       1024);
-    const auto sum_cell_values = [&](const std::vector<double> &cell_values,
-                                     Vector<double>            &y) {
+    const auto sum_cell_values = [&](const AlignedVector<double> &cell_values,
+                                     Vector<double>              &y) {
       y.reinit(n_slots, true);
       parallel::apply_to_subranges(
         0u,
@@ -853,7 +855,7 @@ namespace Signorini
       }
     AssertThrow(block_offset.back() < numbers::invalid_unsigned_int,
                 ExcMessage("too many cells for the enhanced densities"));
-    std::vector<std::array<unsigned int, 2>> slot_sources(
+    AlignedVector<std::array<unsigned int, 2>> slot_sources(
       n_slots,
       {{numbers::invalid_unsigned_int, numbers::invalid_unsigned_int}});
     // (a slot is in the patches of both ends of its edge, if both are
@@ -883,7 +885,7 @@ namespace Signorini
           }
       },
       1);
-    std::vector<double> corrections(block_offset.back());
+    AlignedVector<double> corrections(block_offset.back());
     const auto precondition = [&](const Vector<double> &r, Vector<double> &z) {
       parallel::apply_to_subranges(
         0u,
@@ -1064,7 +1066,9 @@ namespace Signorini
               region_vertices(seed, regions.rings);
             for (const unsigned int vertex : region)
               in_region[vertex] = true;
-            region_corrections.push_back(describe_region(region, hessians));
+            region_corrections.push_back(describe_region(
+              region,
+              ArrayView<const float>(hessians.data(), hessians.size())));
             region_corrections.back().add_correction(residual, preconditioned);
           }
       }

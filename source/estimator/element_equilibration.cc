@@ -351,25 +351,25 @@ namespace Signorini
 
 
     /// The body force f~ of CellQuantities::split_body_force on @p cell
-    /// from the values @p force of f_d at the quadrature points of
-    /// @p fe_values.
+    /// from the values @p force of f_d at the quadrature points @p points
+    /// with weights @p JxW.
     JohnsonMercierElement::BodyForce
     split_body_force(const DoFHandler<2>::active_cell_iterator &cell,
-                     const FEValues<2>                         &fe_values,
+                     const std::vector<Point<2>>               &points,
+                     const std::vector<double>                 &JxW,
                      const std::vector<Vector<double>>         &force)
     {
       const Point<2> center = cell->center();
       Tensor<1, 2>   resultant;
       double         moment = 0.;
       double         area   = 0.;
-      for (const unsigned int q : fe_values.quadrature_point_indices())
+      for (unsigned int q = 0; q < points.size(); ++q)
         {
-          const Tensor<1, 2> arm = fe_values.quadrature_point(q) - center;
-          resultant[0] += force[q][0] * fe_values.JxW(q);
-          resultant[1] += force[q][1] * fe_values.JxW(q);
-          moment +=
-            (arm[0] * force[q][1] - arm[1] * force[q][0]) * fe_values.JxW(q);
-          area += fe_values.JxW(q);
+          const Tensor<1, 2> arm = points[q] - center;
+          resultant[0] += force[q][0] * JxW[q];
+          resultant[1] += force[q][1] * JxW[q];
+          moment += (arm[0] * force[q][1] - arm[1] * force[q][0]) * JxW[q];
+          area += JxW[q];
         }
       // f~_e = resultant / |E| + kappa (g_e - g)^perp: the arms g_e - g sum
       // to zero (no resultant), and (g_e - g) x (g_e - g)^perp = |g_e - g|^2
@@ -400,6 +400,9 @@ namespace Signorini
     /// sigma_h, eps(U^) and the prolongation loads of the needed cells, in
     /// parallel (each cell writes its own entries), with the @p quadrature
     /// of the assembly so that the prolongation condition holds to round-off.
+    /// The P1 gradients and the quadrature points come from the affine map
+    /// of each triangle (AffineTriangle), the map of the assembly's mapping
+    /// for straight P1 triangles: FEValues cost most of this loop.
     CellQuantities
     compute_cell_quantities(const EquilibrationInput<2> &input,
                             const LA::Vector    &admissible_displacement,
@@ -416,28 +419,31 @@ namespace Signorini
       cells.admissible_strain.resize(n_cells);
       cells.prolongation_load.resize(n_cells);
       cells.split_body_force.resize(n_cells);
+      // (each rank holds the whole mesh: reading a distributed vector entry
+      // by entry cost more than these copies)
+      const Vector<double> equilibrated =
+        replicate(input.equilibrated_displacement);
+      const Vector<double> admissible = replicate(admissible_displacement);
 
-      const FEValuesExtractors::Vector displacement(0);
+      // the barycentric coordinates lambda_v at the quadrature points
+      const unsigned int                 n_points = quadrature.size();
+      std::vector<std::array<double, 3>> lambda(n_points);
+      for (unsigned int q = 0; q < n_points; ++q)
+        {
+          const Point<2> &xi = quadrature.point(q);
+          lambda[q]          = {{1. - xi[0] - xi[1], xi[0], xi[1]}};
+        }
       struct CellScratch
       {
-        FEValues<2>                        fe_values;
-        std::vector<SymmetricTensor<2, 2>> strain_values;
-        std::vector<Vector<double>>        force;
-        CellScratch(const Mapping<2>       &mapping,
-                    const FiniteElement<2> &fe,
-                    const Quadrature<2>    &quadrature)
-          : fe_values(mapping,
-                      fe,
-                      quadrature,
-                      update_values | update_gradients |
-                        update_quadrature_points | update_JxW_values)
-          , strain_values(quadrature.size())
-          , force(quadrature.size(), Vector<double>(2))
-        {}
-        CellScratch(const CellScratch &other)
-          : CellScratch(other.fe_values.get_mapping(),
-                        other.fe_values.get_fe(),
-                        other.fe_values.get_quadrature())
+        std::vector<types::global_dof_index> dof_indices;
+        std::vector<Point<2>>                points;
+        std::vector<double>                  JxW;
+        std::vector<Vector<double>>          force;
+        explicit CellScratch(const unsigned int n_points)
+          : dof_indices(6)
+          , points(n_points)
+          , JxW(n_points)
+          , force(n_points, Vector<double>(2))
         {}
       };
       std::atomic<bool> body_force_present{false};
@@ -448,40 +454,59 @@ namespace Signorini
           const unsigned int index = cell->active_cell_index();
           if (!patches.needed(index))
             return;
-          FEValues<2> &fe_values     = scratch.fe_values;
-          auto        &strain_values = scratch.strain_values;
-          auto        &force         = scratch.force;
-          fe_values.reinit(cell);
-          fe_values[displacement].get_function_symmetric_gradients(
-            input.equilibrated_displacement, strain_values);
+          const AffineTriangle map(cell);
+          // the gradients of lambda_0, lambda_1, lambda_2
+          std::array<Tensor<1, 2>, 3> gradient;
+          for (unsigned int d = 0; d < 2; ++d)
+            {
+              gradient[1][d] = map.inverse_jacobian[0][d];
+              gradient[2][d] = map.inverse_jacobian[1][d];
+              gradient[0][d] = -gradient[1][d] - gradient[2][d];
+            }
+          cell->get_dof_indices(scratch.dof_indices);
+          const auto strain = [&](const Vector<double> &u) {
+            Tensor<2, 2> grad_u;
+            for (unsigned int v = 0; v < 3; ++v)
+              for (unsigned int c = 0; c < 2; ++c)
+                grad_u[c] +=
+                  u[scratch.dof_indices[fe.component_to_system_index(c, v)]] *
+                  gradient[v];
+            return symmetrize(grad_u);
+          };
           const SymmetricTensor<2, 2> sigma_h =
-            input.material.stress(strain_values[0]);
-          cells.fe_stress[index] = sigma_h;
-          fe_values[displacement].get_function_symmetric_gradients(
-            admissible_displacement, strain_values);
-          cells.admissible_strain[index] = strain_values[0];
-          bc.body_force->vector_value_list(fe_values.get_quadrature_points(),
-                                           force);
+            input.material.stress(strain(equilibrated));
+          cells.fe_stress[index]         = sigma_h;
+          cells.admissible_strain[index] = strain(admissible);
+
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              scratch.points[q] =
+                map.origin + map.jacobian * quadrature.point(q);
+              scratch.JxW[q] = quadrature.weight(q) * map.determinant;
+            }
+          auto &force = scratch.force;
+          bc.body_force->vector_value_list(scratch.points, force);
           for (const auto &value : force)
             if (value.l2_norm() != 0.)
               body_force_present = true;
           cells.split_body_force[index] =
-            split_body_force(cell, fe_values, force);
-          for (const unsigned int v : cell->vertex_indices())
-            for (unsigned int c = 0; c < 2; ++c)
-              {
-                const unsigned int i       = fe.component_to_system_index(c, v);
-                double             q_value = 0.;
-                for (const unsigned int q :
-                     fe_values.quadrature_point_indices())
-                  q_value +=
-                    ((sigma_h * fe_values.shape_grad_component(i, q, c))[c] -
-                     force[q][c] * fe_values.shape_value_component(i, q, c)) *
-                    fe_values.JxW(q);
-                cells.prolongation_load[index][v][c] = q_value;
-              }
+            split_body_force(cell, scratch.points, scratch.JxW, force);
+          double area = 0.;
+          for (const double w : scratch.JxW)
+            area += w;
+          for (unsigned int v = 0; v < 3; ++v)
+            {
+              const Tensor<1, 2> traction = sigma_h * gradient[v];
+              for (unsigned int c = 0; c < 2; ++c)
+                {
+                  double value = traction[c] * area;
+                  for (unsigned int q = 0; q < n_points; ++q)
+                    value -= force[q][c] * lambda[q][v] * scratch.JxW[q];
+                  cells.prolongation_load[index][v][c] = value;
+                }
+            }
         },
-        CellScratch(input.mapping, fe, quadrature));
+        CellScratch(n_points));
       cells.body_force_present = body_force_present;
       return cells;
     }
@@ -1622,8 +1647,9 @@ namespace Signorini
       {
         return element.constraint_defect(
           field.vertices,
-          Vector<double>(field.coefficients.begin(), field.coefficients.end()),
-          Vector<double>(field.traction.begin(), field.traction.end()),
+          ArrayView<const double>(field.coefficients.data(),
+                                  field.coefficients.size()),
+          ArrayView<const double>(field.traction.data(), field.traction.size()),
           field.body_force);
       }
 
@@ -1684,8 +1710,9 @@ namespace Signorini
                                  Vector<double>             &error_squared,
                                  Vector<double>             &sum_squared)
     {
-      std::mutex mutex;
-      double     defect = 0.;
+      // (the defects per cell, then their maximum: a lock per cell cost
+      // more than this vector)
+      Vector<double> defects(error_squared.size());
       struct NoScratch
       {};
       for_each_cell(
@@ -1697,12 +1724,10 @@ namespace Signorini
           const auto         field = elements.field(cell);
           std::tie(error_squared[index], sum_squared[index]) =
             elements.norm_squares(field);
-          const double                cell_defect = elements.defect(field);
-          std::lock_guard<std::mutex> lock(mutex);
-          defect = std::max(defect, cell_defect);
+          defects[index] = elements.defect(field);
         },
         NoScratch());
-      return defect;
+      return defects.linfty_norm();
     }
 
 

@@ -146,7 +146,7 @@ namespace Signorini
 
     void
     rhs(const Split                            &s,
-        const Vector<double>                   &traction,
+        const ArrayView<const double>          &traction,
         const JohnsonMercierElement::BodyForce &body_force,
         std::array<double, n_rows>             &b)
     {
@@ -729,7 +729,7 @@ namespace Signorini
                                         const BodyForce &body_force)
   {
     std::array<double, n_rows> b;
-    rhs(split(vertices), traction, body_force, b);
+    rhs(split(vertices), make_array_view(traction), body_force, b);
     return Vector<double>(b.begin(), b.end());
   }
 
@@ -738,8 +738,8 @@ namespace Signorini
   double
   JohnsonMercierElement::constraint_defect(
     const std::array<Point<2>, 3> &vertices,
-    const Vector<double>          &coefficients,
-    const Vector<double>          &traction,
+    const ArrayView<const double> &coefficients,
+    const ArrayView<const double> &traction,
     const BodyForce               &body_force) const
   {
     AssertDimension(coefficients.size(), n_coefficients);
@@ -754,7 +754,11 @@ namespace Signorini
       for (unsigned int r = 0; r < n_rows; ++r)
         residual[r] += c[j][r] * coefficients[j];
 
-    double size = std::max(traction.linfty_norm(), coefficients.linfty_norm());
+    double size = 0.;
+    for (const double t : traction)
+      size = std::max(size, std::abs(t));
+    for (const double x : coefficients)
+      size = std::max(size, std::abs(x));
     for (unsigned int e = 0; e < 3; ++e)
       for (unsigned int i = 0; i < 2; ++i)
         size = std::max(size, s.rho * std::abs(body_force[e][i]));

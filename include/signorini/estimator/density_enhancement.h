@@ -1,6 +1,7 @@
 #ifndef signorini_estimator_density_enhancement_h
 #define signorini_estimator_density_enhancement_h
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
@@ -252,7 +253,7 @@ namespace Signorini
      */
     RegionCorrection
     describe_region(const std::vector<unsigned int> &region,
-                    const std::vector<float>        &hessians) const;
+                    const ArrayView<const float>    &hessians) const;
 
     /// The patch of @p vertex into @p patch: its slots, their positions in
     /// its cells and the basis of its equilibrated changes.

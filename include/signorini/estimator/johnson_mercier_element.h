@@ -1,6 +1,7 @@
 #ifndef signorini_estimator_johnson_mercier_element_h
 #define signorini_estimator_johnson_mercier_element_h
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
@@ -265,8 +266,8 @@ namespace Signorini
      */
     double
     constraint_defect(const std::array<Point<2>, 3> &vertices,
-                      const Vector<double>          &coefficients,
-                      const Vector<double>          &traction,
+                      const ArrayView<const double> &coefficients,
+                      const ArrayView<const double> &traction,
                       const BodyForce               &body_force) const;
 
   private:
