@@ -7,6 +7,8 @@
 #include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
+#include <cstdlib>
+
 namespace Signorini
 {
   std::set<types::boundary_id>
@@ -136,6 +138,15 @@ namespace Signorini
       prm.enter_subsection("Body force");
       body_force =
         parse_function<dim>(prm, dim, "Boundary conditions/Body force");
+      body_force_zero = true;
+      for (const std::string &component :
+           Utilities::split_string_list(prm.get("Function expression"), ';'))
+        {
+          char        *end   = nullptr;
+          const double value = std::strtod(component.c_str(), &end);
+          if (end == component.c_str() || *end != '\0' || value != 0.)
+            body_force_zero = false;
+        }
       prm.leave_subsection();
     }
     prm.leave_subsection();

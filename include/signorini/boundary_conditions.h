@@ -102,6 +102,10 @@ namespace Signorini
     std::vector<DirichletPart>                      dirichlet;
     std::vector<TractionPart>                       tractions;
     std::unique_ptr<Functions::ParsedFunction<dim>> body_force;
+    /// Whether every component of the body force is the literal constant 0
+    /// (the estimators then skip its evaluation, which cost more than the
+    /// rest of their cell data).
+    bool body_force_zero = false;
   };
 
   /// Parse a comma separated list of boundary ids; @p name is used in errors.

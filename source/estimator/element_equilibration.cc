@@ -485,10 +485,13 @@ namespace Signorini
               scratch.JxW[q] = quadrature.weight(q) * map.determinant;
             }
           auto &force = scratch.force;
-          bc.body_force->vector_value_list(scratch.points, force);
-          for (const auto &value : force)
-            if (value.l2_norm() != 0.)
-              body_force_present = true;
+          if (!bc.body_force_zero)
+            {
+              bc.body_force->vector_value_list(scratch.points, force);
+              for (const auto &value : force)
+                if (value.l2_norm() != 0.)
+                  body_force_present = true;
+            }
           cells.split_body_force[index] =
             split_body_force(cell, scratch.points, scratch.JxW, force);
           double area = 0.;
