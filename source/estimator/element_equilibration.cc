@@ -1,3 +1,4 @@
+#include <deal.II/base/aligned_vector.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 
@@ -325,24 +326,26 @@ namespace Signorini
 
 
     /// What the patch systems and the element problems need of every needed
-    /// cell (by active cell index).
+    /// cell (by active cell index). (These arrays and those of the edges are
+    /// AlignedVectors, whose initialisation runs in parallel: at 1.6M DoFs
+    /// the page faults of their first touch cost as much as filling them.)
     struct CellQuantities
     {
       /// sigma_h, the (constant) stress of the equilibrated FE displacement.
-      std::vector<SymmetricTensor<2, 2>> fe_stress;
+      AlignedVector<SymmetricTensor<2, 2>> fe_stress;
       /// eps(U^), constant per cell.
-      std::vector<SymmetricTensor<2, 2>> admissible_strain;
+      AlignedVector<SymmetricTensor<2, 2>> admissible_strain;
       /// Q_E(i)[c] = int_E sigma_h : eps(phi_i e_c) - f_d . phi_i e_c for
       /// the cell's vertices i: what the prolongation condition asks of the
       /// densities of E on phi_i e_c.
-      std::vector<std::array<Tensor<1, 2>, 3>> prolongation_load;
+      AlignedVector<std::array<Tensor<1, 2>, 3>> prolongation_load;
       /// The body force f~ that the Johnson-Mercier field balances: constant
       /// on each sub-triangle of the centroid split, f~_e = mean + kappa
       /// (g_e - g)^perp, with the resultant and the moment about the
       /// centroid g that f_d has with the assembly's quadrature, which the
       /// densities balance (so that the element data are in equilibrium to
       /// round-off; f~ = f_d where f_d is constant on the element).
-      std::vector<JohnsonMercierElement::BodyForce> split_body_force;
+      AlignedVector<JohnsonMercierElement::BodyForce> split_body_force;
       /// Whether f_d is non-zero somewhere (mostly not: its evaluation is
       /// skipped then).
       bool body_force_present = false;
@@ -542,7 +545,7 @@ namespace Signorini
     /// The edges of the needed cells: geometry, and on the boundary which
     /// projections are known and their values (F_d with the assembly's
     /// @p face_quadrature, R^ exactly).
-    std::vector<EdgeData>
+    AlignedVector<EdgeData>
     describe_edges(const EquilibrationInput<2> &input,
                    const VertexPatches         &patches,
                    const Quadrature<1>         &face_quadrature)
@@ -572,7 +575,7 @@ namespace Signorini
       };
 
       // (in parallel: each edge is written by the first of its cells only)
-      std::vector<EdgeData> edges(
+      AlignedVector<EdgeData> edges(
         dof_handler.get_triangulation().n_raw_faces());
       for_each_cell(
         dof_handler,
@@ -711,7 +714,7 @@ namespace Signorini
     edge_ends_at_vertex(
       const unsigned int                                  vertex,
       const VertexPatches                                &patches,
-      const std::vector<EdgeData>                        &edges,
+      const AlignedVector<EdgeData>                      &edges,
       std::vector<std::pair<unsigned int, unsigned int>> &ends)
     {
       ends.clear();
@@ -736,7 +739,7 @@ namespace Signorini
       const std::vector<std::pair<unsigned int, unsigned int>> &edge_ends,
       const VertexPatches                                      &patches,
       const CellQuantities                                     &cells,
-      const std::vector<EdgeData>                              &edges,
+      const AlignedVector<EdgeData>                            &edges,
       PatchSystem                                              &system)
     {
       const auto &patch = patches.cells_of_vertex(vertex);
@@ -779,12 +782,12 @@ namespace Signorini
     /// boundary) on the unknowns of @p system: the target of the least
     /// squares choice among the solutions, into @p averaged.
     void
-    averaged_fe_projections(const PatchSystem           &system,
-                            const unsigned int           component,
-                            const VertexPatches         &patches,
-                            const CellQuantities        &cells,
-                            const std::vector<EdgeData> &edges,
-                            Vector<double>              &averaged)
+    averaged_fe_projections(const PatchSystem             &system,
+                            const unsigned int             component,
+                            const VertexPatches           &patches,
+                            const CellQuantities          &cells,
+                            const AlignedVector<EdgeData> &edges,
+                            Vector<double>                &averaged)
     {
       averaged.reinit(system.signs.n());
       for (unsigned int u = 0; u < system.unknowns.size(); ++u)
@@ -914,7 +917,7 @@ namespace Signorini
     double
     solve_patch_projections(const VertexPatches        &patches,
                             const CellQuantities       &cells,
-                            std::vector<EdgeData>      &edges,
+                            AlignedVector<EdgeData>    &edges,
                             const bool                  find_free_directions,
                             std::vector<FreeDirection> &free_directions)
     {
@@ -982,8 +985,8 @@ namespace Signorini
     /// The linear densities from the two projections of each edge:
     /// [b0, b1] = L/6 [[2, 1], [1, 2]] [F0, F1].
     void
-    densities_from_projections(const VertexPatches   &patches,
-                               std::vector<EdgeData> &edges)
+    densities_from_projections(const VertexPatches     &patches,
+                               AlignedVector<EdgeData> &edges)
     {
       for (unsigned int index = 0; index < edges.size(); ++index)
         if (patches.cells_of_edge(index)[0] != numbers::invalid_unsigned_int)
@@ -1050,12 +1053,12 @@ namespace Signorini
     public:
       /// The problems of degree @p degree, the body force integrated with
       /// @p body_quadrature; references to the arguments are kept.
-      ElementProblems(const unsigned int           degree,
-                      const Quadrature<2>         &body_quadrature,
-                      const EquilibrationInput<2> &input,
-                      const VertexPatches         &patches,
-                      const CellQuantities        &cells,
-                      const std::vector<EdgeData> &edges)
+      ElementProblems(const unsigned int             degree,
+                      const Quadrature<2>           &body_quadrature,
+                      const EquilibrationInput<2>   &input,
+                      const VertexPatches           &patches,
+                      const CellQuantities          &cells,
+                      const AlignedVector<EdgeData> &edges)
         : space(degree, body_quadrature)
         , elasticity(elasticity_matrix(input.material))
         , body_quadrature(body_quadrature)
@@ -1166,7 +1169,7 @@ namespace Signorini
       /// sigma_h, eps(U^) and whether there is a body force.
       const CellQuantities &cells;
       /// The densities.
-      const std::vector<EdgeData> &edges;
+      const AlignedVector<EdgeData> &edges;
       /// Guards max_equilibrium_defect (loads are built on worker threads).
       mutable std::mutex defect_mutex;
       /// See equilibrium_defect().
@@ -1298,7 +1301,7 @@ namespace Signorini
                        const VertexPatches              &patches,
                        const std::vector<FreeDirection> &free_directions,
                        const DoFHandler<2>              &dof_handler,
-                       std::vector<EdgeData>            &edges)
+                       AlignedVector<EdgeData>          &edges)
     {
       const unsigned int n_directions = free_directions.size();
       std::vector<std::vector<unsigned int>> directions_of_cell(
@@ -1393,9 +1396,9 @@ namespace Signorini
     /// with @p computed_only only those at the vertices whose patch this
     /// rank computes (zero elsewhere).
     std::vector<double>
-    to_slots(const VertexPatches         &patches,
-             const DensityEnhancement    &enhancement,
-             const std::vector<EdgeData> &edges,
+    to_slots(const VertexPatches           &patches,
+             const DensityEnhancement      &enhancement,
+             const AlignedVector<EdgeData> &edges,
              std::array<Tensor<1, 2>, 2> EdgeData::*values,
              const bool                             computed_only)
     {
@@ -1425,7 +1428,7 @@ namespace Signorini
                const DensityEnhancement   &enhancement,
                const Slots                &slots,
                std::array<Tensor<1, 2>, 2> EdgeData::*values,
-               std::vector<EdgeData>                 &edges)
+               AlignedVector<EdgeData>               &edges)
     {
       for (unsigned int edge = 0; edge < edges.size(); ++edge)
         if (patches.cells_of_edge(edge)[0] != numbers::invalid_unsigned_int)
@@ -1451,7 +1454,7 @@ namespace Signorini
     gather_projections(const VertexPatches      &patches,
                        const DensityEnhancement &enhancement,
                        const MPI_Comm            communicator,
-                       std::vector<EdgeData>    &edges)
+                       AlignedVector<EdgeData>  &edges)
     {
       const std::vector<double> slots =
         to_slots(patches, enhancement, edges, &EdgeData::projection, true);
@@ -1536,10 +1539,10 @@ namespace Signorini
 
       /// The fields of the elements from the data of @p input and @p cells
       /// and the densities of @p edges (read when a field is asked for).
-      EquilibratedElements(const EquilibrationInput<2> &input,
-                           const VertexPatches         &patches,
-                           const CellQuantities        &cells,
-                           const std::vector<EdgeData> &edges)
+      EquilibratedElements(const EquilibrationInput<2>   &input,
+                           const VertexPatches           &patches,
+                           const CellQuantities          &cells,
+                           const AlignedVector<EdgeData> &edges)
         : element(JohnsonMercierElement::compliance_matrix(input.material))
         , input(input)
         , patches(patches)
@@ -1699,7 +1702,7 @@ namespace Signorini
       /// eps(U^) and whether there is a body force.
       const CellQuantities &cells;
       /// The densities.
-      const std::vector<EdgeData> &edges;
+      const AlignedVector<EdgeData> &edges;
     };
 
 
@@ -1751,7 +1754,7 @@ namespace Signorini
                       const unsigned int           max_iterations,
                       const double                 tolerance,
                       const DensityEnhancement::RegionSettings &regions,
-                      std::vector<EdgeData>                    &edges)
+                      AlignedVector<EdgeData>                  &edges)
     {
       std::vector<std::array<unsigned int, 2>> edge_vertices(edges.size());
       std::vector<std::array<bool, 2>>         free_components(edges.size());
@@ -2019,7 +2022,7 @@ namespace Signorini
     const QGaussSimplex<dim - 1> face_quadrature(3);
     const CellQuantities         cells = compute_cell_quantities(
       input, admissible_displacement, patches, quadrature);
-    std::vector<EdgeData> edges =
+    AlignedVector<EdgeData> edges =
       describe_edges(input, patches, face_quadrature);
 
     // 1. the traction densities from the patch systems of the prolongation
