@@ -773,7 +773,7 @@ namespace Signorini
                     // (edge j) has its entries in columns 0, 1, 2 and 3 + j
                     // only, so a cell's changed values meet at most five
                     // columns (a third of the flops of H Z on the patch's
-                    // assembled Hessian, which cost most of this set-up)
+                    // assembled Hessian)
                     for (unsigned int i = 0; i < cells.size(); ++i)
                       add_airy_cell_product(
                         patch.positions[i],
