@@ -103,8 +103,7 @@ namespace Signorini
     std::vector<TractionPart>                       tractions;
     std::unique_ptr<Functions::ParsedFunction<dim>> body_force;
     /// Whether every component of the body force is the literal constant 0
-    /// (the estimators then skip its evaluation, which cost more than the
-    /// rest of their cell data).
+    /// (the element equilibration then skips its evaluation per cell).
     bool body_force_zero = false;
   };
 
