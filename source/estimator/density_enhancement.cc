@@ -760,9 +760,10 @@ namespace Signorini
                 const unsigned int n = patch.slots.size(), k = patch.basis.n(),
                                    n_airy = patch.airy_columns.size();
                 work.sizes.push_back({{n, k, n_airy}});
-                work.slots.insert(work.slots.end(),
-                                  patch.slots.begin(),
-                                  patch.slots.end());
+                if (n_airy == 0)
+                  work.slots.insert(work.slots.end(),
+                                    patch.slots.begin(),
+                                    patch.slots.end());
                 if (k == 0)
                   continue;
                 const auto &cells = patches.cells_of_vertex(computed[p]);
@@ -793,9 +794,10 @@ namespace Signorini
                     work.airy_columns.insert(work.airy_columns.end(),
                                              patch.airy_columns.begin(),
                                              patch.airy_columns.end());
-                    work.airy_inverses.insert(work.airy_inverses.end(),
-                                              &inverse(0, 0),
-                                              &inverse(0, 0) + k * k);
+                    for (unsigned int i = 0; i < k; ++i)
+                      work.airy_inverses.insert(work.airy_inverses.end(),
+                                                &inverse(i, i),
+                                                &inverse(i, 0) + k);
                   }
                 else
                   {
@@ -928,7 +930,7 @@ namespace Signorini
     unsigned int             largest_patch = 0;
     for (unsigned int b = 0; b < n_blocks; ++b)
       {
-        block_offset[b + 1] = block_offset[b] + blocks[b].slots.size();
+        block_offset[b + 1] = block_offset[b] + blocks[b].n_slots();
         for (const auto &size : blocks[b].sizes)
           largest_patch = std::max(largest_patch, size[0]);
       }
@@ -945,22 +947,16 @@ namespace Signorini
       [&](const unsigned int begin, const unsigned int end) {
         for (unsigned int b = begin; b < end; ++b)
           {
-            const PatchBlock &block = blocks[b];
-            std::size_t       j     = 0; // position in block.slots
-            for (unsigned int q = 0; q < block.sizes.size(); ++q)
-              {
-                const unsigned int vertex = computed[b * patches_per_block + q];
-                for (unsigned int i = 0; i < block.sizes[q][0]; ++i, ++j)
-                  {
-                    const unsigned int slot = block.slots[j];
-                    const auto        &ends = edge_vertices[slot / 4];
-                    const unsigned int other =
-                      ends[0] == vertex ? ends[1] : ends[0];
-                    const bool second =
-                      patches.computes_patch(other) && other < vertex;
-                    slot_sources[slot][second ? 1 : 0] = block_offset[b] + j;
-                  }
-              }
+            blocks[b].for_each_slot([&](const unsigned int q,
+                                        const std::size_t  j,
+                                        const unsigned int slot) {
+              const unsigned int vertex = computed[b * patches_per_block + q];
+              const auto        &ends   = edge_vertices[slot / 4];
+              const unsigned int other  = ends[0] == vertex ? ends[1] : ends[0];
+              const bool         second =
+                patches.computes_patch(other) && other < vertex;
+              slot_sources[slot][second ? 1 : 0] = block_offset[b] + j;
+            });
           }
       },
       1);
@@ -977,8 +973,8 @@ namespace Signorini
               const double      *factor       = block.factors.data();
               const AiryColumns *airy_columns = block.airy_columns.data();
               const float       *inverse      = block.airy_inverses.data();
-              double     *correction = corrections.data() + block_offset[b];
-              std::size_t first_slot = 0;
+              double     *correction  = corrections.data() + block_offset[b];
+              std::size_t other_slots = 0; // in block.slots
               for (const auto &[n, k, n_airy] : block.sizes)
                 {
                   if (k == 0)
@@ -1004,12 +1000,17 @@ namespace Signorini
                           reduced[3 + j] = edge.at_vertex[3] * difference[0] +
                                            edge.at_vertex[7] * difference[1];
                         }
+                      // (the upper triangle, row by row)
+                      std::fill(values.begin(), values.begin() + k, 0.);
                       for (unsigned int i = 0; i < k; ++i)
                         {
-                          double value = 0.;
-                          for (unsigned int l = 0; l < k; ++l)
-                            value += double(inverse[k * i + l]) * reduced[l];
-                          values[i] = value;
+                          double value = double(*inverse++) * reduced[i];
+                          for (unsigned int l = i + 1; l < k; ++l, ++inverse)
+                            {
+                              value += double(*inverse) * reduced[l];
+                              values[l] += double(*inverse) * reduced[i];
+                            }
+                          values[i] += value;
                         }
                       for (unsigned int j = 0; j < n_airy; ++j)
                         {
@@ -1031,12 +1032,11 @@ namespace Signorini
                           other_end[0] -= edge.shift * values[2];
                         }
                       airy_columns += n_airy;
-                      inverse += std::size_t(k) * k;
                     }
                   else
                     {
                       const unsigned int *slots =
-                        block.slots.data() + first_slot;
+                        block.slots.data() + other_slots;
                       for (unsigned int j = 0; j < n; ++j)
                         values[j] = r[slots[j]];
                       std::fill(reduced.begin(), reduced.begin() + k, 0.);
@@ -1052,7 +1052,8 @@ namespace Signorini
                         }
                       factor += std::size_t(n) * k;
                     }
-                  first_slot += n;
+                  if (n_airy == 0)
+                    other_slots += n;
                   correction += n;
                 }
             }
@@ -1099,17 +1100,15 @@ namespace Signorini
         std::vector<std::pair<double, unsigned int>> decrease_of_patch;
         for (unsigned int b = 0; b < n_blocks; ++b)
           {
-            const PatchBlock &block = blocks[b];
-            std::size_t       j     = 0;
-            for (unsigned int q = 0; q < block.sizes.size(); ++q)
-              {
-                double decrease = 0.;
-                for (unsigned int i = 0; i < block.sizes[q][0]; ++i, ++j)
-                  decrease +=
-                    residual[block.slots[j]] * corrections[block_offset[b] + j];
-                decrease_of_patch.emplace_back(
-                  decrease, computed[b * patches_per_block + q]);
-              }
+            const unsigned int first = b * patches_per_block;
+            for (unsigned int q = 0; q < blocks[b].sizes.size(); ++q)
+              decrease_of_patch.emplace_back(0., computed[first + q]);
+            blocks[b].for_each_slot([&](const unsigned int q,
+                                        const std::size_t  j,
+                                        const unsigned int slot) {
+              decrease_of_patch[first + q].first +=
+                residual[slot] * corrections[block_offset[b] + j];
+            });
           }
         std::sort(decrease_of_patch.begin(),
                   decrease_of_patch.end(),

@@ -197,17 +197,49 @@ namespace Signorini
       /// Per patch: the number n of its slots, k of the columns of Z and of
       /// its Airy edges (0 if it is not an Airy patch).
       std::vector<std::array<unsigned int, 3>> sizes;
-      /// The slots of the patches, one after the other.
+      /// The slots of the patches other than Airy ones, one after the other
+      /// (those of an Airy patch follow from its edges: for_each_slot()).
       std::vector<unsigned int> slots;
       /// The patches other than Airy ones: factors B = Z L^-T with
       /// B B^T = Z (Z^T H Z)^+ Z^T (n x k, row by row), one after the other.
       std::vector<double> factors;
       /// The Airy patches: their edges, one after the other.
       std::vector<AiryColumns> airy_columns;
-      /// The Airy patches: (Z^T H Z)^+ (k x k), in single precision: the
-      /// correction stays a combination of the columns of Z, exactly
-      /// equilibrated, whatever its coefficients.
+      /// The Airy patches: the upper triangle of (Z^T H Z)^+ (k x k, row
+      /// by row), in single precision: the correction stays a combination
+      /// of the columns of Z, exactly equilibrated, whatever its
+      /// coefficients.
       std::vector<float> airy_inverses;
+
+      /// @p function(q, j, slot) for each slot of each patch q of the
+      /// block, j its position among the slots of the block, in the order
+      /// of the patches and of their slots.
+      template <typename Function>
+      void
+      for_each_slot(const Function &function) const
+      {
+        std::size_t         j          = 0;
+        const unsigned int *other_slot = slots.data();
+        const AiryColumns  *edge       = airy_columns.data();
+        for (unsigned int q = 0; q < sizes.size(); ++q)
+          if (sizes[q][2] > 0)
+            for (unsigned int e = 0; e < sizes[q][2]; ++e, ++edge)
+              for (unsigned int r = 0; r < 4; ++r)
+                function(q, j++, edge->first_slot + r);
+          else
+            for (unsigned int i = 0; i < sizes[q][0]; ++i)
+              function(q, j++, *other_slot++);
+      }
+
+      /// The number of slots of the patches of the block.
+      std::size_t
+      n_slots() const
+      {
+        std::size_t n = 0;
+        for (const auto &size : sizes)
+          n += size[0];
+        return n;
+      }
     };
 
     /**
