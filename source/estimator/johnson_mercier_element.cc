@@ -425,14 +425,18 @@ namespace Signorini
           (map.piola[i] * sp[j] + map.piola[3 + i] * sp[3 + j] +
            map.piola[6 + i] * sp[6 + j]);
 
-    // Q: the 2 x 2 blocks ratio_e F^-1 of the reference tractions
-    const auto q = [&map](const unsigned int t, const unsigned int c) {
-      // entry (reference value t, physical component c of the same pair)
-      return map.length_ratio[t / 4] * map.inverse_jacobian[t % 2][c];
-    };
+    // Q: the 2 x 2 blocks ratio_e F^-1 of the reference tractions, entry
+    // (reference value t, physical component c of the same pair) at 2 t + c
+    std::array<double, 2 * n_traction_values> q;
+    for (unsigned int t = 0; t < n_traction_values; ++t)
+      for (unsigned int c = 0; c < 2; ++c)
+        q[2 * t + c] = map.length_ratio[t / 4] * map.inverse_jacobian[t % 2][c];
 
-    // H^ = sum_ab S^_ab G_ab, then Q^T H^ Q by 2 x 2 blocks
-    std::array<double, n_traction_values * n_traction_values> h_hat;
+    // H^ = sum_ab S^_ab G_ab, then Q^T H^ Q by 2 x 2 blocks: H^ Q, then
+    // Q^T (H^ Q) (a third of the flops of the triple products entry by
+    // entry)
+    constexpr unsigned int    n = n_traction_values;
+    std::array<double, n * n> h_hat;
     h_hat.fill(0.);
     for (unsigned int p = 0; p < voigt_pairs.size(); ++p)
       {
@@ -441,19 +445,22 @@ namespace Signorini
         for (unsigned int i = 0; i < h_hat.size(); ++i)
           h_hat[i] += weight * part[i];
       }
-    hessian.reinit(n_traction_values, n_traction_values);
-    for (unsigned int t = 0; t < n_traction_values; ++t)
-      for (unsigned int u = 0; u < n_traction_values; ++u)
+    std::array<double, n * n> h_hat_q;
+    for (unsigned int t = 0; t < n; ++t)
+      for (unsigned int u = 0; u < n; ++u)
         {
-          const unsigned int t0 = t - t % 2, u0 = u - u % 2;
-          double             value = 0.;
-          for (unsigned int c = 0; c < 2; ++c)
-            for (unsigned int d = 0; d < 2; ++d)
-              value += q(t0 + c, t % 2) *
-                       h_hat[n_traction_values * (t0 + c) + u0 + d] *
-                       q(u0 + d, u % 2);
-          hessian(t, u) = value;
+          const unsigned int u0 = u - u % 2;
+          h_hat_q[n * t + u]    = h_hat[n * t + u0] * q[2 * u0 + u % 2] +
+                               h_hat[n * t + u0 + 1] * q[2 * (u0 + 1) + u % 2];
         }
+    hessian.reinit(n, n);
+    for (unsigned int t = 0; t < n; ++t)
+      {
+        const unsigned int t0 = t - t % 2;
+        for (unsigned int u = 0; u < n; ++u)
+          hessian(t, u) = q[2 * t0 + t % 2] * h_hat_q[n * t0 + u] +
+                          q[2 * (t0 + 1) + t % 2] * h_hat_q[n * (t0 + 1) + u];
+      }
 
     // the gradient Q^T R^^T P^T W x
     std::array<double, n_coefficients> wx, reference_wx;
@@ -486,8 +493,8 @@ namespace Signorini
     for (unsigned int t = 0; t < n_traction_values; ++t)
       {
         const unsigned int t0 = t - t % 2;
-        gradient[t]           = q(t0, t % 2) * reference_gradient[t0] +
-                      q(t0 + 1, t % 2) * reference_gradient[t0 + 1];
+        gradient[t]           = q[2 * t0 + t % 2] * reference_gradient[t0] +
+                      q[2 * (t0 + 1) + t % 2] * reference_gradient[t0 + 1];
       }
   }
 
