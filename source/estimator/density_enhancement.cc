@@ -784,8 +784,8 @@ namespace Signorini
 
                     // (Z^T H Z)^+: (L L^T)^-1 = M^T M, M = L^-1, when it is
                     // definite (in work space: the matrices allocated per
-                    // patch were a tenth of this set-up at 1.6M DoFs),
-                    // otherwise F F^T, F = correction_factor(I, .)
+                    // patch were about a tenth of this set-up at 1.6M
+                    // DoFs), otherwise F F^T, F = correction_factor(I, .)
                     factor = reduced;
                     if (SmallMatrices::cholesky(factor, 1e-10))
                       {

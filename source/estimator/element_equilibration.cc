@@ -857,9 +857,9 @@ namespace Signorini
             if (all_shared)
               gram(i, j) += 1.;
           }
-      // (by Cholesky: the Gauss-Jordan inverse it replaces was a tenth of
-      // step 1 at 1.6M DoFs; gauss_jordan() on a singular matrix would
-      // have failed too)
+      // (by Cholesky: the Gauss-Jordan inverse it replaces was about a
+      // tenth of step 1 at 1.6M DoFs; gauss_jordan() on a singular matrix
+      // would have failed too)
       AssertThrow(SmallMatrices::cholesky(gram, 1e-12),
                   ExcMessage("a singular patch system of the classical "
                              "densities"));
@@ -1620,8 +1620,8 @@ namespace Signorini
       {
         const unsigned int index   = cell->active_cell_index();
         const Field        current = field(cell);
-        // (work space of the thread: allocating them per cell was a tenth
-        // of this step at 1.6M DoFs)
+        // (work space of the thread: allocating them per cell was about a
+        // tenth of this step at 1.6M DoFs)
         thread_local FullMatrix<double> traction_hessian;
         thread_local Vector<double>     traction_gradient;
         element.traction_quadratic(current.map,
