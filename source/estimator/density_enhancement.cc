@@ -736,7 +736,7 @@ namespace Signorini
       n_blocks,
       [&](const unsigned int begin, const unsigned int end) {
         Patch              patch;
-        FullMatrix<double> hessian, hz, reduced, factor, inverse;
+        FullMatrix<double> hessian, hz, reduced, factor, lower_inverse, inverse;
         // (a block is assembled in work space reused by the thread, then
         // copied into arrays of its exact size: growing them by doubling
         // cost 0.4 of the 5.3 s of this set-up at 1.6M DoFs)
@@ -782,45 +782,43 @@ namespace Signorini
                         },
                         reduced);
 
-                    // (Z^T H Z)^+: (L L^T)^-1 = M^T M, M = L^-1, when it is
-                    // definite (in work space: the matrices allocated per
-                    // patch were about a tenth of this set-up at 1.6M
-                    // DoFs), otherwise F F^T, F = correction_factor(I, .)
+                    // (Z^T H Z)^+ (its upper triangle): (L L^T)^-1 = M^T M,
+                    // M = L^-1, when it is definite (in work space: the
+                    // matrices allocated per patch were about a tenth of
+                    // this set-up at 1.6M DoFs), otherwise F F^T,
+                    // F = correction_factor(I, .)
                     factor = reduced;
+                    inverse.reinit(k, k);
                     if (SmallMatrices::cholesky(factor, 1e-10))
                       {
-                        inverse.reinit(k, k);
+                        lower_inverse.reinit(k, k);
                         for (unsigned int j = 0; j < k; ++j)
                           {
-                            inverse(j, j) = 1. / factor(j, j);
+                            lower_inverse(j, j) = 1. / factor(j, j);
                             for (unsigned int i = j + 1; i < k; ++i)
                               {
                                 double value = 0.;
                                 for (unsigned int p = j; p < i; ++p)
-                                  value -= factor(i, p) * inverse(p, j);
-                                inverse(i, j) = value / factor(i, i);
+                                  value -= factor(i, p) * lower_inverse(p, j);
+                                lower_inverse(i, j) = value / factor(i, i);
                               }
                           }
                         for (unsigned int i = 0; i < k; ++i)
                           for (unsigned int l = i; l < k; ++l)
-                            {
-                              double value = 0.;
-                              for (unsigned int p = l; p < k; ++p)
-                                value += inverse(p, i) * inverse(p, l);
-                              work.airy_inverses.push_back(value);
-                            }
+                            for (unsigned int p = l; p < k; ++p)
+                              inverse(i, l) +=
+                                lower_inverse(p, i) * lower_inverse(p, l);
                       }
                     else
                       {
                         const FullMatrix<double> f = correction_factor(
                           FullMatrix<double>(IdentityMatrix(k)), reduced);
-                        inverse.reinit(k, k);
                         f.mTmult(inverse, f);
-                        for (unsigned int i = 0; i < k; ++i)
-                          work.airy_inverses.insert(work.airy_inverses.end(),
-                                                    &inverse(i, i),
-                                                    &inverse(i, 0) + k);
                       }
+                    for (unsigned int i = 0; i < k; ++i)
+                      work.airy_inverses.insert(work.airy_inverses.end(),
+                                                &inverse(i, i),
+                                                &inverse(i, 0) + k);
                     work.airy_columns.insert(work.airy_columns.end(),
                                              patch.airy_columns.begin(),
                                              patch.airy_columns.end());
