@@ -78,63 +78,60 @@ namespace Signorini
 
 
     /**
-     * The changes of the four slots (rows) of an edge of unit tangent
-     * @p tangent (end 0 to end 1) and 1 / length @p inverse_length for a unit
-     * change of (@p patch_scale phi, d phi/dx, d phi/dy) at its end
-     * @p vertex_end and of the normal derivative at its midpoint (columns),
-     * row by row (DensityEnhancement::AiryColumns).
+     * The changes of the four slots (rows) of an edge of an Airy patch
+     * (columns) from the rows @p at_vertex at the vertex's end @p vertex_end
+     * and t = @p shift (DensityEnhancement::AiryColumns), row by row.
      */
     std::array<double, 16>
-    airy_slot_changes(const double       tangent[2],
-                      const double       inverse_length,
-                      const unsigned int vertex_end,
-                      const double       patch_scale)
+    airy_slot_changes(const std::array<double, 8> &at_vertex,
+                      const double                 shift,
+                      const unsigned int           vertex_end)
     {
-      // with R v = (v_y, -v_x), the reference normal nu = R tau, w = 1 /
-      // length and s = +1 if the vertex is end 0, -1 otherwise: grad phi at
-      // the midpoint is
-      //   G_m = (-3/2 s w phi - G . tau / 4) tau + (G . nu / 2 + beta) nu
-      // for (phi, G = grad phi) at the vertex and beta the change of the
-      // normal derivative (the cubic Hermite interpolant along the edge,
-      // whose derivative integrates to the change of phi: the moment
-      // balance), and the traction at the vertex's end and at the other end
-      //   s w R (4 G_m - 3 G),  s w R (G - 4 G_m)
-      // (the derivative of the quadratic through the ends and the midpoint)
-      const double w = inverse_length, s = vertex_end == 0 ? 1. : -1.;
-      const double tau[2] = {tangent[0], tangent[1]};
-      const double nu[2]  = {tau[1], -tau[0]};
-      // row of component c at the vertex's end and at the other
       const unsigned int     here = 2 * vertex_end, there = 2 - here;
       std::array<double, 16> changes;
-      // phi = 1 / patch_scale: G_m = -3/2 s w phi tau, R tau = nu
-      const double phi_change = 6. * w * w / patch_scale;
-      // beta = 1: G_m = nu, R nu = -tau
-      const double beta_change = 4. * s * w;
       for (unsigned int c = 0; c < 2; ++c)
-        {
-          changes[4 * (here + c)]      = -phi_change * nu[c];
-          changes[4 * (there + c)]     = phi_change * nu[c];
-          changes[4 * (here + c) + 3]  = -beta_change * tau[c];
-          changes[4 * (there + c) + 3] = beta_change * tau[c];
-        }
-      // G = e_j: 4 G_m - 3 e_j = -tau_j tau + 2 nu_j nu - 3 e_j, and
-      // e_j - 4 G_m = -(4 G_m - 3 e_j) - 2 e_j
-      for (unsigned int j = 0; j < 2; ++j)
-        {
-          double v[2];
-          for (unsigned int c = 0; c < 2; ++c)
-            v[c] = -tau[j] * tau[c] + 2. * nu[j] * nu[c] - (c == j ? 3. : 0.);
-          // R v = (v_y, -v_x)
-          const double at_vertex[2] = {s * w * v[1], -s * w * v[0]};
-          const double unit_r[2]    = {j == 1 ? 1. : 0., j == 0 ? -1. : 0.};
-          for (unsigned int c = 0; c < 2; ++c)
-            {
-              changes[4 * (here + c) + 1 + j] = at_vertex[c];
-              changes[4 * (there + c) + 1 + j] =
-                -at_vertex[c] - 2. * s * w * unit_r[c];
-            }
-        }
+        for (unsigned int i = 0; i < 4; ++i)
+          {
+            changes[4 * (here + c) + i]  = at_vertex[4 * c + i];
+            changes[4 * (there + c) + i] = -at_vertex[4 * c + i];
+          }
+      changes[4 * (there + 1) + 1] += shift;
+      changes[4 * there + 2] -= shift;
       return changes;
+    }
+
+
+
+    /// The floats per cell of the element Hessians as they are stored: the
+    /// upper triangle, row by row (78 of the 144 entries), padded so that
+    /// every cell's starts on a cache line.
+    constexpr unsigned int packed_hessian_size = 80;
+
+    /// The position of entry (@p a, @p b) of a cell's Hessian in its
+    /// upper triangle, row by row.
+    constexpr unsigned int
+    packed_position(const unsigned int a, const unsigned int b)
+    {
+      // (row a starts after 12 + 11 + ... + (13 - a) entries)
+      return a <= b ? a * (25 - a) / 2 + (b - a) : packed_position(b, a);
+    }
+
+    /// H x for the Hessian @p h of a cell (its upper triangle, row by row)
+    inline std::array<double, 12>
+    packed_product(const float *h, const std::array<double, 12> &x)
+    {
+      std::array<double, 12> product = {};
+      for (unsigned int a = 0; a < 12; ++a)
+        {
+          double row_sum = double(*h++) * x[a];
+          for (unsigned int b = a + 1; b < 12; ++b, ++h)
+            {
+              row_sum += double(*h) * x[b];
+              product[b] += double(*h) * x[a];
+            }
+          product[a] += row_sum;
+        }
+      return product;
     }
 
 
@@ -266,6 +263,48 @@ namespace Signorini
 
 
 
+  std::array<double, 8>
+  DensityEnhancement::AiryColumns::at_vertex(const double patch_scale) const
+  {
+    // with R v = (v_y, -v_x), the reference normal nu = R tau, w = 1 /
+    // length and s = +1 if the vertex is end 0, -1 otherwise: grad phi at
+    // the midpoint is
+    //   G_m = (-3/2 s w phi - G . tau / 4) tau + (G . nu / 2 + beta) nu
+    // for (phi, G = grad phi) at the vertex and beta the change of the
+    // normal derivative (the cubic Hermite interpolant along the edge,
+    // whose derivative integrates to the change of phi: the moment
+    // balance), and the traction at the vertex's end
+    //   s w R (4 G_m - 3 G)
+    // (the derivative of the quadratic through the ends and the midpoint;
+    // at the other end s w R (G - 4 G_m), whence the rows there)
+    const double  w = inverse_length, s = vertex_end == 0 ? 1. : -1.;
+    const double *tau   = tangent.data();
+    const double  nu[2] = {tau[1], -tau[0]};
+    // phi = 1 / patch_scale: G_m = -3/2 s w phi tau, R tau = nu
+    const double phi_change = 6. * w * w / patch_scale;
+    // beta = 1: G_m = nu, R nu = -tau
+    const double          beta_change = 4. * s * w;
+    std::array<double, 8> rows;
+    for (unsigned int c = 0; c < 2; ++c)
+      {
+        rows[4 * c]     = -phi_change * nu[c];
+        rows[4 * c + 3] = -beta_change * tau[c];
+      }
+    // G = e_j: 4 G_m - 3 e_j = -tau_j tau + 2 nu_j nu - 3 e_j
+    for (unsigned int j = 0; j < 2; ++j)
+      {
+        double v[2];
+        for (unsigned int c = 0; c < 2; ++c)
+          v[c] = -tau[j] * tau[c] + 2. * nu[j] * nu[c] - (c == j ? 3. : 0.);
+        // R v = (v_y, -v_x)
+        rows[1 + j]     = s * w * v[1];
+        rows[4 + 1 + j] = -s * w * v[0];
+      }
+    return rows;
+  }
+
+
+
   void
   DensityEnhancement::describe_patch(const unsigned int vertex,
                                      Patch             &patch) const
@@ -331,18 +370,23 @@ namespace Signorini
         double patch_scale = 0.;
         for (unsigned int j = 0; j < n_edges; ++j)
           {
-            const unsigned int edge       = edge_start[j].first;
-            const Point<2>    &a          = vertices[edge_vertices[edge][0]];
-            const Point<2>    &b          = vertices[edge_vertices[edge][1]];
-            const double       length     = a.distance(b);
-            const double       tangent[2] = {(b[0] - a[0]) / length,
-                                             (b[1] - a[1]) / length};
-            const unsigned int vertex_end =
-              edge_vertices[edge][0] == vertex ? 0 : 1;
+            const unsigned int edge   = edge_start[j].first;
+            const Point<2>    &a      = vertices[edge_vertices[edge][0]];
+            const Point<2>    &b      = vertices[edge_vertices[edge][1]];
+            const double       length = a.distance(b);
+            AiryColumns        columns;
+            columns.tangent = {
+              {(b[0] - a[0]) / length, (b[1] - a[1]) / length}};
+            columns.inverse_length = 1. / length;
+            columns.first_slot     = slot(edge, 0, 0);
+            columns.vertex_end     = edge_vertices[edge][0] == vertex ? 0 : 1;
+            patch.airy_columns.push_back(columns);
             if (j == 0)
-              patch_scale = 1. / length;
+              patch_scale = columns.inverse_length;
             const std::array<double, 16> changes =
-              airy_slot_changes(tangent, 1. / length, vertex_end, patch_scale);
+              airy_slot_changes(columns.at_vertex(patch_scale),
+                                columns.shift(),
+                                columns.vertex_end);
             // (the edge's slots are positions 4 j to 4 j + 3, in slot order)
             for (unsigned int row = 0; row < 4; ++row)
               {
@@ -350,31 +394,6 @@ namespace Signorini
                   patch.basis(4 * j + row, column) = changes[4 * row + column];
                 patch.basis(4 * j + row, 3 + j) = changes[4 * row + 3];
               }
-            // the rows at the vertex's end (the other end's follow from
-            // them, checked in Debug)
-            AiryColumns        columns;
-            const unsigned int here = 2 * vertex_end;
-            for (unsigned int c = 0; c < 2; ++c)
-              for (unsigned int i = 0; i < 4; ++i)
-                columns.at_vertex[4 * c + i] = changes[4 * (here + c) + i];
-            columns.shift      = (vertex_end == 0 ? 2. : -2.) / length;
-            columns.first_slot = slot(edge, 0, 0);
-            columns.vertex_end = vertex_end;
-            patch.airy_columns.push_back(columns);
-            for (unsigned int c = 0; c < 2; ++c)
-              for (unsigned int i = 0; i < 4; ++i)
-                Assert(std::abs(changes[4 * (2 - here + c) + i] +
-                                columns.at_vertex[4 * c + i] -
-                                (c == 1 && i == 1 ? columns.shift :
-                                 c == 0 && i == 2 ? -columns.shift :
-                                                    0.)) <=
-                         1e-12 * std::abs(*std::max_element(
-                                   changes.begin(),
-                                   changes.end(),
-                                   [](const double x, const double y) {
-                                     return std::abs(x) < std::abs(y);
-                                   })),
-                       ExcInternalError());
           }
         Assert(is_kernel_basis(equilibrium_constraints(vertex, patch),
                                patch.basis),
@@ -605,9 +624,11 @@ namespace Signorini
         local_cells.push_back(cell);
         for (const unsigned int edge : patches.edges(cell))
           local_cells.push_back(edge);
-        local_cells.insert(local_cells.end(),
-                           hessians.begin() + 144 * std::size_t(cell),
-                           hessians.begin() + 144 * std::size_t(cell + 1));
+        const float *hessian =
+          hessians.data() + packed_hessian_size * std::size_t(cell);
+        for (unsigned int a = 0; a < 12; ++a)
+          for (unsigned int b = 0; b < 12; ++b)
+            local_cells.push_back(hessian[packed_position(a, b)]);
       }
     std::vector<std::vector<double>> cells;
     const std::vector<double> all_cells = all_ranks(local_cells, communicator);
@@ -684,14 +705,14 @@ namespace Signorini
     // the element quadratics of the needed cells, stored flat: the
     // gradients (12 values per cell, in cell_values, which then holds the
     // products of the Hessians: one array less to allocate, 0.15 GB at
-    // 1.6M DoFs), and the full (symmetric) Hessians in single precision: the
-    // products of the conjugate gradients then vectorise and read half the
-    // memory; a rounded Hessian changes the minimiser by 1e-7 relative but
-    // not the admissibility of any iterate, which only the patch
-    // corrections decide
-    constexpr unsigned int hessian_size = 144;
-    AlignedVector<float>   hessians(hessian_size * std::size_t(n_cells));
-    AlignedVector<double>  cell_values(12 * std::size_t(n_cells));
+    // 1.6M DoFs), and the Hessians' upper triangles in single precision
+    // (packed_position()): the products of the conjugate gradients read 0.5
+    // GB instead of 1.8 in double and full at 1.6M DoFs, which dominates
+    // both them and the set-up, where the pages are touched first; a rounded
+    // Hessian changes the minimiser by 1e-7 relative but not the
+    // admissibility of any iterate, which only the patch corrections decide
+    AlignedVector<float>  hessians(packed_hessian_size * std::size_t(n_cells));
+    AlignedVector<double> cell_values(12 * std::size_t(n_cells));
     parallel::apply_to_subranges(
       0u,
       n_cells,
@@ -700,11 +721,11 @@ namespace Signorini
           if (patches.needed(cell))
             {
               const ElementQuadratic quadratic = element_quadratic(cell);
-              std::transform(quadratic.hessian.begin(),
-                             quadratic.hessian.end(),
-                             hessians.begin() +
-                               hessian_size * std::size_t(cell),
-                             [](const double h) { return float(h); });
+              float                 *hessian =
+                &hessians[packed_hessian_size * std::size_t(cell)];
+              for (unsigned int a = 0; a < 12; ++a)
+                for (unsigned int b = a; b < 12; ++b)
+                  *hessian++ = quadratic.hessian[12 * a + b];
               std::copy(quadratic.gradient.begin(),
                         quadratic.gradient.end(),
                         cell_values.begin() + 12 * std::size_t(cell));
@@ -715,7 +736,8 @@ namespace Signorini
     const auto hessian_entry = [&hessians](const unsigned int cell,
                                            const unsigned int a,
                                            const unsigned int b) {
-      return double(hessians[hessian_size * std::size_t(cell) + 12 * a + b]);
+      return double(hessians[packed_hessian_size * std::size_t(cell) +
+                             packed_position(a, b)]);
     };
 
     // the patches this rank computes, with the factor B_i of their
@@ -931,12 +953,8 @@ namespace Signorini
                 const auto &edges = patches.edges(cell);
                 for (unsigned int b = 0; b < 12; ++b)
                   local[b] = x[4 * edges[b / 4] + b % 4];
-                const float *h = &hessians[hessian_size * std::size_t(cell)];
-                // (column by column: twelve independent sums)
-                std::array<double, 12> product = {};
-                for (unsigned int b = 0; b < 12; ++b, h += 12)
-                  for (unsigned int a = 0; a < 12; ++a)
-                    product[a] += double(h[a]) * local[b];
+                const std::array<double, 12> product = packed_product(
+                  &hessians[packed_hessian_size * std::size_t(cell)], local);
                 std::copy(product.begin(),
                           product.end(),
                           cell_values.begin() + 12 * std::size_t(cell));
@@ -991,6 +1009,8 @@ namespace Signorini
         n_blocks,
         [&](const unsigned int begin, const unsigned int end) {
           std::vector<double> values(largest_patch), reduced(largest_patch);
+          // the rows of Z at the vertex's end of an Airy patch's edges
+          std::vector<std::array<double, 8>> edge_rows(largest_patch / 4);
           for (unsigned int b = begin; b < end; ++b)
             {
               const PatchBlock  &block        = blocks[b];
@@ -1007,22 +1027,26 @@ namespace Signorini
                     {
                       // Z^T r edge by edge, (Z^T H Z)^+, then Z
                       std::fill(reduced.begin(), reduced.begin() + k, 0.);
+                      const double patch_scale = airy_columns[0].inverse_length;
                       for (unsigned int j = 0; j < n_airy; ++j)
                         {
-                          const AiryColumns &edge = airy_columns[j];
-                          const double *r_edge    = r.begin() + edge.first_slot;
+                          const AiryColumns           &edge = airy_columns[j];
+                          const std::array<double, 8> &at_vertex =
+                            edge_rows[j]         = edge.at_vertex(patch_scale);
+                          const double  shift    = edge.shift();
+                          const double *r_edge   = r.begin() + edge.first_slot;
                           const double *r_vertex = r_edge + 2 * edge.vertex_end;
                           const double *r_other =
                             r_edge + 2 - 2 * edge.vertex_end;
                           const double difference[2] = {
                             r_vertex[0] - r_other[0], r_vertex[1] - r_other[1]};
                           for (unsigned int i = 0; i < 3; ++i)
-                            reduced[i] += edge.at_vertex[i] * difference[0] +
-                                          edge.at_vertex[4 + i] * difference[1];
-                          reduced[1] += edge.shift * r_other[1];
-                          reduced[2] -= edge.shift * r_other[0];
-                          reduced[3 + j] = edge.at_vertex[3] * difference[0] +
-                                           edge.at_vertex[7] * difference[1];
+                            reduced[i] += at_vertex[i] * difference[0] +
+                                          at_vertex[4 + i] * difference[1];
+                          reduced[1] += shift * r_other[1];
+                          reduced[2] -= shift * r_other[0];
+                          reduced[3 + j] = at_vertex[3] * difference[0] +
+                                           at_vertex[7] * difference[1];
                         }
                       // (the upper triangle, row by row)
                       std::fill(values.begin(), values.begin() + k, 0.);
@@ -1038,22 +1062,24 @@ namespace Signorini
                         }
                       for (unsigned int j = 0; j < n_airy; ++j)
                         {
-                          const AiryColumns &edge = airy_columns[j];
-                          double            *vertex_end =
+                          const AiryColumns           &edge = airy_columns[j];
+                          const std::array<double, 8> &at_vertex = edge_rows[j];
+                          const double                 shift     = edge.shift();
+                          double                      *vertex_end =
                             correction + 4 * j + 2 * edge.vertex_end;
                           double *other_end =
                             correction + 4 * j + 2 - 2 * edge.vertex_end;
                           for (unsigned int c = 0; c < 2; ++c)
                             {
                               double value =
-                                edge.at_vertex[4 * c + 3] * values[3 + j];
+                                at_vertex[4 * c + 3] * values[3 + j];
                               for (unsigned int i = 0; i < 3; ++i)
-                                value += edge.at_vertex[4 * c + i] * values[i];
+                                value += at_vertex[4 * c + i] * values[i];
                               vertex_end[c] = value;
                               other_end[c]  = -value;
                             }
-                          other_end[1] += edge.shift * values[1];
-                          other_end[0] -= edge.shift * values[2];
+                          other_end[1] += shift * values[1];
+                          other_end[0] -= shift * values[2];
                         }
                       airy_columns += n_airy;
                     }

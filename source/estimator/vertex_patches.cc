@@ -11,7 +11,7 @@ namespace Signorini
     , computing_vertex(triangulation.n_vertices(), false)
     , owned_cell(triangulation.n_active_cells(), false)
     , needed_cell(triangulation.n_active_cells(), false)
-    , cells_around_vertex(triangulation.n_vertices())
+    , first_cell_of_vertex(triangulation.n_vertices() + 1, 0)
     , cell_vertices(triangulation.n_active_cells())
     , cell_edges(triangulation.n_active_cells())
     , edge_cells(triangulation.n_raw_faces(),
@@ -45,7 +45,8 @@ namespace Signorini
         vertex_of_owned_cell[vertex] && lowest_owner[vertex] == this_rank;
 
     // in active cell order, so that the patch cells and the first cell of
-    // an edge do not depend on anything else
+    // an edge do not depend on anything else (the cells around the vertices
+    // counted, then placed)
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         const unsigned int index = cell->active_cell_index();
@@ -57,7 +58,7 @@ namespace Signorini
         for (const unsigned int v : cell->vertex_indices())
           {
             cell_vertices[index][v] = cell->vertex_index(v);
-            cells_around_vertex[cell->vertex_index(v)].push_back(index);
+            ++first_cell_of_vertex[cell->vertex_index(v) + 1];
           }
         for (const unsigned int e : cell->face_indices())
           {
@@ -73,6 +74,15 @@ namespace Signorini
             cells[cells[0] == numbers::invalid_unsigned_int ? 0 : 1] = index;
           }
       }
+    for (unsigned int vertex = 0; vertex < triangulation.n_vertices(); ++vertex)
+      first_cell_of_vertex[vertex + 1] += first_cell_of_vertex[vertex];
+    cells_around_vertices.resize(first_cell_of_vertex.back());
+    std::vector<unsigned int> next_cell(first_cell_of_vertex.begin(),
+                                        first_cell_of_vertex.end() - 1);
+    for (unsigned int index = 0; index < cell_vertices.size(); ++index)
+      if (needed_cell[index])
+        for (const unsigned int vertex : cell_vertices[index])
+          cells_around_vertices[next_cell[vertex]++] = index;
   }
 
 

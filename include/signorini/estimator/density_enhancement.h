@@ -155,17 +155,33 @@ namespace Signorini
      * the vertex's end, plus t = 2 s w in (component 1, column 1) and -t in
      * (component 0, column 2), w = 1 / the edge's length and s = +1 if the
      * vertex is end 0, -1 otherwise.
+     *
+     * Only the edge's geometry is kept, from which the rows are recomputed
+     * where they are needed: 32 bytes per edge instead of 80 for the rows,
+     * which the preconditioner streams through at every iteration.
      */
     struct AiryColumns
     {
-      /// The rows at the vertex's end (component c, column j at 4 c + j).
-      std::array<double, 8> at_vertex;
-      /// t.
-      double shift;
+      /// The unit tangent from end 0 to end 1.
+      std::array<double, 2> tangent;
+      /// w.
+      double inverse_length;
       /// The edge's first slot.
       unsigned int first_slot;
       /// The end at the vertex.
       unsigned int vertex_end;
+
+      /// The rows at the vertex's end (component c, column j at 4 c + j),
+      /// for 1 / h = @p patch_scale.
+      std::array<double, 8>
+      at_vertex(const double patch_scale) const;
+
+      /// t.
+      double
+      shift() const
+      {
+        return (vertex_end == 0 ? 2. : -2.) * inverse_length;
+      }
     };
 
     /// What the preconditioner keeps of the patch of one vertex.
@@ -203,7 +219,8 @@ namespace Signorini
       /// The patches other than Airy ones: factors B = Z L^-T with
       /// B B^T = Z (Z^T H Z)^+ Z^T (n x k, row by row), one after the other.
       std::vector<double> factors;
-      /// The Airy patches: their edges, one after the other.
+      /// The Airy patches: their edges, one after the other (1 / h of a
+      /// patch is w of its first edge).
       std::vector<AiryColumns> airy_columns;
       /// The Airy patches: the upper triangle of (Z^T H Z)^+ (k x k, row
       /// by row), in single precision: the correction stays a combination
@@ -278,8 +295,9 @@ namespace Signorini
 
     /**
      * The correction of the region of the vertices @p region
-     * (region_vertices()) with the element Hessians @p hessians (144 per
-     * cell, by active cell index; those of the owned cells are read), the
+     * (region_vertices()) with the element Hessians @p hessians (their
+     * upper triangles, as run() stores them, by active cell index; those of
+     * the owned cells are read), the
      * same on every rank: each patch is described by the rank that computes
      * it and each cell's Hessian comes from its owner.
      */
