@@ -116,7 +116,7 @@ namespace Signorini
       return a <= b ? a * (25 - a) / 2 + (b - a) : packed_position(b, a);
     }
 
-    /// H x for the Hessian @p h of a cell (its upper triangle, row by row)
+    /// H x for the Hessian @p h of a cell (its upper triangle, row by row).
     inline std::array<double, 12>
     packed_product(const float *h, const std::array<double, 12> &x)
     {
