@@ -706,10 +706,10 @@ namespace Signorini
     // gradients (12 values per cell, in cell_values, which then holds the
     // products of the Hessians: one array less to allocate, 0.15 GB at
     // 1.6M DoFs), and the Hessians' upper triangles in single precision
-    // (packed_position()): the products of the conjugate gradients read 0.5
-    // GB instead of 1.8 in double and full at 1.6M DoFs, which dominates
-    // both them and the set-up, where the pages are touched first; a rounded
-    // Hessian changes the minimiser by 1e-7 relative but not the
+    // (packed_position()): 0.5 GB at 1.6M DoFs instead of 0.91 for the full
+    // matrices, fewer fresh pages to touch in the set-up, at the price of a
+    // symmetric product that vectorises less (doc/estimator.md, "Cost"); a
+    // rounded Hessian changes the minimiser by 1e-7 relative but not the
     // admissibility of any iterate, which only the patch corrections decide
     AlignedVector<float>  hessians(packed_hessian_size * std::size_t(n_cells));
     AlignedVector<double> cell_values(12 * std::size_t(n_cells));
