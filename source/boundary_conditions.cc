@@ -7,6 +7,7 @@
 #include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace Signorini
@@ -167,7 +168,7 @@ namespace Signorini
   }
 
   template <int dim>
-  void
+  typename BoundaryConditions<dim>::DataMagnitudes
   BoundaryConditions<dim>::check_finite(
     const Mapping<dim>       &mapping,
     const Triangulation<dim> &triangulation,
@@ -183,6 +184,7 @@ namespace Signorini
                                      face_quadrature,
                                      update_quadrature_points);
     std::vector<Point<dim>> points;
+    DataMagnitudes          largest;
 
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
@@ -195,13 +197,19 @@ namespace Signorini
               points.push_back(cell->face(f)->vertex(v));
             for (const auto &part : dirichlet)
               if (part.ids.count(id) != 0)
-                Signorini::check_finite(*part.displacement,
-                                        points,
-                                        part.name,
-                                        part.mask);
+                largest.displacement =
+                  std::max(largest.displacement,
+                           Signorini::check_finite(*part.displacement,
+                                                   points,
+                                                   part.name,
+                                                   part.mask));
             for (const auto &part : tractions)
               if (part.ids.count(id) != 0)
-                Signorini::check_finite(*part.traction, points, part.name);
+                largest.traction =
+                  std::max(largest.traction,
+                           Signorini::check_finite(*part.traction,
+                                                   points,
+                                                   part.name));
           }
 
     // the vertices once, then the quadrature points of each cell
@@ -209,22 +217,24 @@ namespace Signorini
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       if (triangulation.get_used_vertices()[v])
         points.push_back(triangulation.get_vertices()[v]);
-    Signorini::check_finite(*body_force,
-                            points,
-                            "Boundary conditions/Body force");
+    largest.body_force = Signorini::check_finite(
+      *body_force, points, "Boundary conditions/Body force");
     if (exact_solution != nullptr)
       Signorini::check_finite(*exact_solution, points, "Exact solution");
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         fe_values.reinit(cell);
-        Signorini::check_finite(*body_force,
-                                fe_values.get_quadrature_points(),
-                                "Boundary conditions/Body force");
+        largest.body_force =
+          std::max(largest.body_force,
+                   Signorini::check_finite(*body_force,
+                                           fe_values.get_quadrature_points(),
+                                           "Boundary conditions/Body force"));
         if (exact_solution != nullptr)
           Signorini::check_finite(*exact_solution,
                                   fe_values.get_quadrature_points(),
                                   "Exact solution");
       }
+    return largest;
   }
 
 

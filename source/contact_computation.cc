@@ -6,6 +6,8 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 
+#include <deal.II/grid/grid_tools.h>
+
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 
@@ -20,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace Signorini
@@ -42,11 +45,12 @@ namespace Signorini
                       "active set of the previous (coarser) cycle.");
     prm.declare_entry("Check tolerance",
                       "1e-6",
-                      Patterns::Double(0., 1.),
+                      Patterns::Double(1e-12, 1.),
                       "A computation whose relative solution checks "
                       "(feasibility, multiplier sign, complementarity, "
                       "residual, resultant) exceed this has failed (exit code "
-                      "2), whatever its solver reports.");
+                      "2), whatever its solver reports (at least 1e-12: the "
+                      "checks of an exact solve are round-off).");
     prm.declare_entry("Nested start",
                       "true",
                       Patterns::Bool(),
@@ -137,13 +141,61 @@ namespace Signorini
 
   template <int dim>
   void
+  ContactComputation<dim>::check_data_scale(
+    const Triangulation<dim>                                    &mesh,
+    const typename BoundaryConditions<dim>::DataMagnitudes &data) const
+  {
+    // the stress the data impose (tractions, body force times the diameter
+    // L, E times the prescribed displacements over L) and the strain energy
+    // S^2 / E L^d it stores: a problem whose energy is beyond the range of
+    // doubles cannot be solved or checked (its energies, work and residual
+    // scales underflow or overflow) although each value may look harmless
+    const double diameter = GridTools::diameter(mesh);
+    const double young    = std::abs(material_law.young_modulus);
+    // (in decimal exponents: the stress or the energy themselves may not be
+    // doubles; log10(0) = -inf drops a datum that is zero)
+    const double log_diameter = std::log10(diameter);
+    const double log_stress =
+      std::max({std::log10(data.traction),
+                std::log10(data.body_force) + log_diameter,
+                std::log10(young) + std::log10(data.displacement) -
+                  log_diameter});
+    if (log_stress == -std::numeric_limits<double>::infinity())
+      return; // no load: the solution is zero, or a rigid motion
+    const double exponent =
+      2. * log_stress - std::log10(young) + dim * log_diameter;
+    if (!(exponent > -200. && exponent < 200.))
+      {
+        std::ostringstream message;
+        message << std::setprecision(2)
+                << "Boundary conditions and Material/Young modulus: the data "
+                   "give a strain energy of order 1e"
+                << std::lround(exponent) << " (stress 1e"
+                << std::lround(log_stress)
+                << " from the loads and prescribed displacements, Young "
+                   "modulus "
+                << young << ", diameter " << diameter
+                << "), beyond what double precision resolves: choose units "
+                   "(of stress, and of length) that bring it within 1e-200 "
+                   "to 1e200";
+        throw InputError(message.str());
+      }
+  }
+
+
+
+  template <int dim>
+  void
   ContactComputation<dim>::setup(const Triangulation<dim> &mesh,
                                  const Function<dim>      *exact_solution)
   {
     TimerOutput::Scope t(timer, "setup");
     nested_start_input.reset();
     check_boundary_ids(mesh);
-    boundary_data.check_finite(mapping_fe, mesh, exact_solution);
+    check_data_scale(mesh,
+                     boundary_data.check_finite(mapping_fe,
+                                                mesh,
+                                                exact_solution));
     dofs.reinit(mesh);
     dofs.distribute_dofs(fe);
     locally_owned_dofs = dofs.locally_owned_dofs();

@@ -1,19 +1,21 @@
 #include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace Signorini
 {
   template <int dim>
-  void
+  double
   check_finite(const Function<dim>           &function,
                const std::vector<Point<dim>> &points,
                const std::string             &name,
                const ComponentMask           &mask)
   {
     const unsigned int n_components = function.n_components;
+    double             largest      = 0.;
     // component by component: no allocation (called for every cell)
     for (unsigned int i = 0; i < points.size(); ++i)
       for (unsigned int c = 0; c < n_components; ++c)
@@ -35,14 +37,17 @@ namespace Signorini
               message << ", component " << static_cast<char>('x' + c);
             throw InputError(message.str());
           }
+        else
+          largest = std::max(largest, std::abs(value));
+    return largest;
   }
 
-  template void
+  template double
   check_finite<2>(const Function<2> &,
                   const std::vector<Point<2>> &,
                   const std::string &,
                   const ComponentMask &);
-  template void
+  template double
   check_finite<3>(const Function<3> &,
                   const std::vector<Point<3>> &,
                   const std::string &,

@@ -25,6 +25,23 @@ namespace Signorini
 {
   namespace
   {
+    /// Throw an InputError naming @p where if @p text ends its lines with
+    /// a lone carriage return (classic Mac OS): deal.II reads such a file
+    /// as one line, which a leading '#' makes a comment, and the defaults
+    /// would then run in silence. (CR LF is read fine.)
+    void
+    check_line_endings(const std::string &text, const std::string &where)
+    {
+      for (std::size_t i = text.find('\r'); i != std::string::npos;
+           i          = text.find('\r', i + 1))
+        if (i + 1 == text.size() || text[i + 1] != '\n')
+          throw InputError(where +
+                           ": has lines ended by a lone carriage return (CR, "
+                           "classic Mac OS line endings); convert them to LF");
+    }
+
+
+
     /// @p message on one line, each <quoted> text longer than 200 characters
     /// cut with "...", the whole at most 2000 characters: a name or value of
     /// a megabyte must not become an error line of megabytes.
@@ -384,6 +401,7 @@ namespace Signorini
           if (included.find('\0') != std::string::npos)
             throw InputError(where + ": the included file contains a NUL "
                                      "byte (binary file?)");
+          check_line_endings(included, where + ": the included file");
 
           chain.push_back(target);
           canonical_chain.push_back(canonical);
@@ -425,6 +443,7 @@ namespace Signorini
     // deal.II's messages would stop at the NUL, and no parameter has one
     if (text.find('\0') != std::string::npos)
       throw InputError(name + ": contains a NUL byte (binary file?)");
+    check_line_endings(text, name);
 
     const std::vector<EntryPath> doubles = double_entries(prm);
 
@@ -594,6 +613,48 @@ namespace Signorini
             throw InputError(name + constant + " is defined twice");
         }
     }
+
+
+
+    /// Check the "Variable names" of the current subsection of @p prm in
+    /// dimension @p dim: deal.II takes the first dim names as the
+    /// coordinates and a (dim+1)-th as the time, whatever they are called,
+    /// so that x,y,t in 3D silently makes t the coordinate z and x,y,z in
+    /// 2D makes z the time. A name x, y or z must be its own coordinate, t
+    /// the time.
+    void
+    check_variable_names(ParameterHandler  &prm,
+                         const unsigned int dim,
+                         const std::string &description)
+    {
+      const std::string        list = prm.get("Variable names");
+      std::vector<std::string> names;
+      std::istringstream       in(list);
+      for (std::string name; std::getline(in, name, ',');)
+        names.push_back(trimmed(name));
+      const std::string coordinates = dim == 2 ? "x, y" : "x, y, z";
+      const std::string prefix      = description + ": Variable names = " +
+                                 trimmed(list) + ": in " +
+                                 std::to_string(dim) + "D ";
+      if (names.size() != dim && names.size() != dim + 1)
+        throw InputError(prefix + "give the " + std::to_string(dim) +
+                         " coordinates and optionally the time, e.g. " +
+                         coordinates + ", t");
+      const std::string axes = "xyz";
+      for (unsigned int i = 0; i < names.size(); ++i)
+        {
+          const std::string meaning =
+            i < dim ? std::string("the coordinate ") + axes[i] : "the time";
+          const bool misplaced =
+            (names[i].size() == 1 &&
+             axes.find(names[i][0]) != std::string::npos &&
+             names[i] != (i < dim ? std::string(1, axes[i]) : "")) ||
+            (names[i] == "t" && i != dim);
+          if (misplaced)
+            throw InputError(prefix + "<" + names[i] + "> would be " +
+                             meaning + "; use " + coordinates + ", t");
+        }
+    }
   } // namespace
 
 
@@ -604,6 +665,7 @@ namespace Signorini
                  const unsigned int n_components,
                  const std::string &description)
   {
+    check_variable_names(prm, dim, description);
     check_function_constants(prm, description);
     auto function =
       std::make_unique<Functions::ParsedFunction<dim>>(n_components);

@@ -20,8 +20,8 @@ namespace
   {
     out << "Usage: signorini FILE.prm          run the computation\n"
            "       signorini --validate FILE.prm  check the input and exit\n"
-           "       signorini --print-parameters   print the documented "
-           "default parameter file\n"
+           "       signorini --print-parameters [2|3]  print the "
+           "documented default parameter file of that dimension (2)\n"
            "       signorini --help\n";
   }
 
@@ -101,10 +101,19 @@ main(int argc, char **argv)
             print_usage(std::cout);
           return 0;
         }
-      if (args.size() == 1 && args[0] == "--print-parameters")
+      // the defaults of the dimension asked for (2 if none): the function
+      // variables, block subdivisions and directions differ
+      if ((args.size() == 1 || args.size() == 2) &&
+          args[0] == "--print-parameters")
         {
           ParameterHandler prm;
-          SignoriniProblem<2>::declare_parameters(prm);
+          if (args.size() == 1 || args[1] == "2")
+            SignoriniProblem<2>::declare_parameters(prm);
+          else if (args[1] == "3")
+            SignoriniProblem<3>::declare_parameters(prm);
+          else
+            throw InputError("--print-parameters " + args[1] +
+                             ": the dimension is 2 or 3");
           if (root)
             prm.print_parameters(std::cout, ParameterHandler::PRM);
           return 0;

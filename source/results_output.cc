@@ -9,6 +9,7 @@
 
 #include <signorini/adaptation/mesh_quality.h>
 #include <signorini/cell_data_postprocessor.h>
+#include <signorini/input_error.h>
 #include <signorini/results_output.h>
 #include <signorini/stress_postprocessor.h>
 
@@ -22,6 +23,65 @@
 
 namespace Signorini
 {
+  namespace
+  {
+    /// DataOut with the names of its datasets (the fields' components) in
+    /// reach, to name a field in a message.
+    template <int dim>
+    class NamedDataOut : public DataOut<dim>
+    {
+    public:
+      using DataOut<dim>::get_dataset_names;
+    };
+
+
+
+    /**
+     * Throw an InputError naming the field (or the mesh coordinates) if a
+     * value built into @p data_out is beyond what the VTU file holds:
+     * deal.II writes Float32, so a finite double beyond 3.4e38 has become
+     * inf in the patches. (A NaN is written on purpose where a local
+     * effectivity is undefined.) The same decision on every rank.
+     */
+    template <int dim>
+    void
+    refuse_beyond_single_precision(const unsigned int       cycle,
+                                   const NamedDataOut<dim> &data_out,
+                                   const MPI_Comm           communicator)
+    {
+      unsigned int first_overflow = numbers::invalid_unsigned_int;
+      bool         coordinates    = false;
+      for (const auto &patch : data_out.get_patches())
+        {
+          for (const auto &vertex : patch.vertices)
+            for (unsigned int d = 0; d < dim; ++d)
+              coordinates |= std::isinf(float(vertex[d]));
+          for (unsigned int i = 0; i < patch.data.n_rows(); ++i)
+            for (unsigned int j = 0; j < patch.data.n_cols(); ++j)
+              if (std::isinf(patch.data(i, j)))
+                first_overflow = std::min(first_overflow, i);
+        }
+      first_overflow = Utilities::MPI::min(first_overflow, communicator);
+      coordinates    = Utilities::MPI::logical_or(coordinates, communicator);
+      const std::string units =
+        " beyond the single precision of the VTU output (3.4e38): choose "
+        "units (of length, and of stress for Material/Young modulus and the "
+        "loads) that keep the values within it, or set Output/Write vtu = "
+        "false";
+      const std::vector<std::string> names = data_out.get_dataset_names();
+      if (coordinates)
+        throw InputError("cycle " + std::to_string(cycle) +
+                         ": mesh coordinates" + units);
+      if (first_overflow != numbers::invalid_unsigned_int)
+        throw InputError(
+          "cycle " + std::to_string(cycle) + ": the field " +
+          (first_overflow < names.size() ? names[first_overflow] : "?") +
+          " reaches values" + units);
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   ResultsOutput<dim>::declare_parameters(ParameterHandler &prm)
@@ -257,6 +317,9 @@ namespace Signorini
     pcout << "   error in constitutive relation: eps = " << std::setprecision(4)
           << 100. * estimate.eps << " % (contact term "
           << 100. * estimate.eps_contact << " % of e^2)" << std::setprecision(6)
+          << (estimate.stress_free ?
+                ": no stress (to round-off), the solution is exact" :
+                "")
           << std::endl;
     statistics_table.add_value("e", std::sqrt(estimate.e_squared));
     statistics_table.add_value("eps", estimate.eps);
@@ -503,7 +566,7 @@ namespace Signorini
     }
 
     const StressPostprocessor<dim> stress(computation.material());
-    DataOut<dim>                   data_out; // (the cells this rank owns)
+    NamedDataOut<dim>              data_out; // (the cells this rank owns)
     const std::vector<DataComponentInterpretation::DataComponentInterpretation>
                      vector_part(dim,
                   DataComponentInterpretation::component_is_part_of_vector);
@@ -549,6 +612,7 @@ namespace Signorini
           }
       }
     data_out.build_patches(computation.mapping());
+    refuse_beyond_single_precision(cycle, data_out, mpi_communicator);
     // one file serially; with N ranks a piece per rank and a .pvtu record
     const std::string  base = "solution-" + Utilities::int_to_string(cycle, 2);
     const unsigned int n_ranks =

@@ -57,6 +57,14 @@ namespace Signorini
       std::unique_ptr<Functions::ParsedFunction<dim>> traction;
     };
 
+    /// The largest magnitudes of the data where they are used.
+    struct DataMagnitudes
+    {
+      double displacement = 0.; ///< prescribed Dirichlet components
+      double traction     = 0.;
+      double body_force   = 0.;
+    };
+
     static void
     declare_parameters(ParameterHandler &prm);
 
@@ -73,8 +81,9 @@ namespace Signorini
      * its ids, the body force, and @p exact_solution if not null, at the
      * vertices and cell quadrature points (the quadrature rules of the
      * assembly). Called for every mesh: refined meshes have new points.
+     * Returns the largest magnitudes found.
      */
-    void
+    DataMagnitudes
     check_finite(const Mapping<dim>       &mapping,
                  const Triangulation<dim> &triangulation,
                  const Function<dim>      *exact_solution = nullptr) const;

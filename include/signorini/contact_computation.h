@@ -225,6 +225,13 @@ namespace Signorini
     void
     judge_solution();
 
+    /// Throw an InputError when the strain energy of the data (largest
+    /// magnitudes @p data on @p mesh) is beyond the range of doubles.
+    void
+    check_data_scale(
+      const Triangulation<dim>                               &mesh,
+      const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
+
     TimerOutput &timer;
     MPI_Comm     mpi_communicator;
 

@@ -19,10 +19,11 @@ namespace Signorini
    * component selected by @p mask (default: all) is NaN or infinite. A parsed
    * expression can be syntactically valid and still undefined on part of the
    * domain (sqrt of a negative number, division by zero); its value would
-   * otherwise flow silently into the computation.
+   * otherwise flow silently into the computation. Returns the largest
+   * magnitude of the selected components at @p points.
    */
   template <int dim>
-  void
+  double
   check_finite(const Function<dim>           &function,
                const std::vector<Point<dim>> &points,
                const std::string             &name,

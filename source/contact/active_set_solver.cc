@@ -54,7 +54,7 @@ namespace Signorini
                       "Limit on the number of active-set updates.");
     prm.declare_entry("Inexact tolerance",
                       "1e-6",
-                      Patterns::Double(0., 1.),
+                      Patterns::Double(1e-16, 1.),
                       "Relative CG tolerance of the solves while the active "
                       "set still changes (the final solve uses Linear "
                       "solver/Relative tolerance).");

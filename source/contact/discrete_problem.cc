@@ -475,6 +475,15 @@ namespace Signorini
 
 
   template <int dim>
+  const LA::SparseMatrix &
+  DiscreteContactProblem<dim>::stiffness() const
+  {
+    return stiffness_matrix;
+  }
+
+
+
+  template <int dim>
   const LA::Vector &
   DiscreteContactProblem<dim>::load() const
   {

@@ -20,9 +20,10 @@ namespace Signorini
                       "Limit on the number of Frank-Wolfe steps.");
     prm.declare_entry("Tolerance",
                       "1e-12",
-                      Patterns::Double(0., 1.),
+                      Patterns::Double(1e-14, 1.),
                       "Stop when the KKT residual of the dual problem is "
-                      "below this fraction of max |d|.");
+                      "below this fraction of max |d| (at least 1e-14: "
+                      "round-off allows no less).");
     prm.declare_entry("Maximum columns",
                       "100000",
                       Patterns::Integer(1),

@@ -3,7 +3,9 @@
 #include <signorini/contact/solution_checks.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace Signorini
 {
@@ -69,11 +71,24 @@ namespace Signorini
     imbalance += contact_forces;
     LA::Vector applied(problem.load());
     applied += contact_forces;
-    double applied_scale = 0., load_sum = 0.; // load_sum: sum of |forces|
+    // the scale of the residual: the largest applied force, or, when the
+    // loads vanish or are small (a rigid motion imposed by Dirichlet data),
+    // the forces K_ii |u_D,i| the imposed displacements exert on their own
+    // (their sum likewise for the resultant)
+    double applied_scale = 0., imposed_scale = 0., imposed_sum = 0.;
+    double load_sum = 0.; // sum of |forces|
     const AffineConstraints<double> &all = problem.constraints();
     for (const auto i : u.locally_owned_elements())
       if (!all.is_constrained(i))
         applied_scale = std::max(applied_scale, std::abs(applied[i]));
+      else if (dirichlet_constraints.is_inhomogeneously_constrained(i))
+        {
+          const double force =
+            std::abs(problem.stiffness().diag_element(i) *
+                     dirichlet_constraints.get_inhomogeneity(i));
+          imposed_scale = std::max(imposed_scale, force);
+          imposed_sum += force;
+        }
     // the moment about the origin in each coordinate plane (a, b): one in
     // 2D (the plane (x, y)), three in 3D (the components of x cross f)
     static constexpr unsigned int n_planes     = dim * (dim - 1) / 2;
@@ -109,6 +124,8 @@ namespace Signorini
     // (each rank summed over the dofs it owns)
     const MPI_Comm comm = u.get_mpi_communicator();
     applied_scale       = Utilities::MPI::max(applied_scale, comm);
+    imposed_scale       = Utilities::MPI::max(imposed_scale, comm);
+    imposed_sum         = Utilities::MPI::sum(imposed_sum, comm);
     checks.residual     = Utilities::MPI::max(checks.residual, comm);
     load_sum            = Utilities::MPI::sum(load_sum, comm);
     force               = Utilities::MPI::sum(force, comm);
@@ -119,7 +136,8 @@ namespace Signorini
         lower[d] = Utilities::MPI::min(lower[d], comm);
         upper[d] = Utilities::MPI::max(upper[d], comm);
       }
-    checks.residual /= std::max(applied_scale, 1e-300);
+    checks.residual /=
+      std::max({applied_scale, imposed_scale, std::numeric_limits<double>::min()});
     const double diameter = (upper - lower).norm();
     // the largest term, NaN if any is NaN
     double     largest = 0.;
@@ -131,7 +149,9 @@ namespace Signorini
       include(std::abs(force[d]));
     for (const double m : moment)
       include(std::abs(m) / diameter);
-    checks.resultant = largest / std::max(load_sum, 1e-300);
+    checks.resultant =
+      largest /
+      std::max({load_sum, imposed_sum, std::numeric_limits<double>::min()});
     return checks;
   }
 

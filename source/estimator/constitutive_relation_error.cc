@@ -7,6 +7,7 @@
 
 #include <signorini/estimator/constitutive_relation_error.h>
 
+#include <limits>
 #include <numeric>
 
 namespace Signorini
@@ -186,9 +187,35 @@ namespace Signorini
       std::accumulate(sum_squared.begin(), sum_squared.end(), 0.);
     result.e_squared   = volume_error + result.contact_term;
     result.denominator = volume_sum + result.contact_term;
-    result.eps         = std::sqrt(result.e_squared / result.denominator);
-    result.eps_contact = result.contact_term / result.e_squared;
     result.local.reinit(error_squared.size());
+    // no stress and no contact work (no load, or a rigid motion imposed by
+    // the Dirichlet data): the admissible fields are exact, eps = 0, not
+    // 0 / 0 or the ratio of two round-off errors. The round-off level of D:
+    // strains of 1e3 machine epsilons times max |u_h| / h_min everywhere.
+    double h_min = std::numeric_limits<double>::max(), volume = 0.;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          h_min = std::min(h_min, cell->minimum_vertex_distance());
+          volume += cell->measure();
+        }
+    h_min  = Utilities::MPI::min(h_min, communicator);
+    volume = Utilities::MPI::sum(volume, communicator);
+    const double round_off_strain =
+      1e3 * std::numeric_limits<double>::epsilon() * u_h.linfty_norm() /
+      h_min;
+    result.stress_free =
+      !(result.denominator > volume * std::abs(material.young_modulus) *
+                               round_off_strain * round_off_strain);
+    if (result.stress_free)
+      {
+        result.e_squared = result.denominator = result.contact_term = 0.;
+        result.contact_local = 0.;
+        return result;
+      }
+    result.eps = std::sqrt(result.e_squared / result.denominator);
+    result.eps_contact =
+      result.e_squared > 0. ? result.contact_term / result.e_squared : 0.;
     for (unsigned int E = 0; E < error_squared.size(); ++E)
       result.local[E] =
         std::sqrt(std::max(error_squared[E] + result.contact_local[E], 0.) /

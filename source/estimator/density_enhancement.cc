@@ -505,7 +505,8 @@ namespace Signorini
   DensityEnhancement::RegionCorrection
   DensityEnhancement::describe_region(
     const std::vector<unsigned int> &region,
-    const ArrayView<const float>    &hessians) const
+    const ArrayView<const float>    &hessians,
+    const ArrayView<const double>   &hessian_scales) const
   {
     // the columns of the patches this rank computes, flat: vertex, edge of
     // the column (the normal derivative of an Airy patch's edge) or -1,
@@ -628,7 +629,8 @@ namespace Signorini
           hessians.data() + packed_hessian_size * std::size_t(cell);
         for (unsigned int a = 0; a < 12; ++a)
           for (unsigned int b = 0; b < 12; ++b)
-            local_cells.push_back(hessian[packed_position(a, b)]);
+            local_cells.push_back(hessian_scales[cell] *
+                                  double(hessian[packed_position(a, b)]));
       }
     std::vector<std::vector<double>> cells;
     const std::vector<double> all_cells = all_ranks(local_cells, communicator);
@@ -710,8 +712,13 @@ namespace Signorini
     // matrices, fewer fresh pages to touch in the set-up, at the price of a
     // symmetric product that vectorises less (doc/estimator.md, "Cost"); a
     // rounded Hessian changes the minimiser by 1e-7 relative but not the
-    // admissibility of any iterate, which only the patch corrections decide
+    // admissibility of any iterate, which only the patch corrections decide.
+    // Each cell's Hessian is stored divided by its largest diagonal entry
+    // (kept in double): the entries scale as |E| / E and h^d, and
+    // unscaled they left the single precision range for E = 1e40 or
+    // 1e-50, where the enhancement silently did nothing
     AlignedVector<float>  hessians(packed_hessian_size * std::size_t(n_cells));
+    AlignedVector<double> hessian_scales(n_cells);
     AlignedVector<double> cell_values(12 * std::size_t(n_cells));
     parallel::apply_to_subranges(
       0u,
@@ -721,11 +728,17 @@ namespace Signorini
           if (patches.needed(cell))
             {
               const ElementQuadratic quadratic = element_quadratic(cell);
-              float                 *hessian =
+              double                 scale     = 0.;
+              for (unsigned int a = 0; a < 12; ++a)
+                scale = std::max(scale, std::abs(quadratic.hessian[13 * a]));
+              if (!(scale > 0.) || !std::isfinite(scale))
+                scale = 1.;
+              hessian_scales[cell] = scale;
+              float *hessian =
                 &hessians[packed_hessian_size * std::size_t(cell)];
               for (unsigned int a = 0; a < 12; ++a)
                 for (unsigned int b = a; b < 12; ++b)
-                  *hessian++ = quadratic.hessian[12 * a + b];
+                  *hessian++ = quadratic.hessian[12 * a + b] / scale;
               std::copy(quadratic.gradient.begin(),
                         quadratic.gradient.end(),
                         cell_values.begin() + 12 * std::size_t(cell));
@@ -733,10 +746,12 @@ namespace Signorini
       },
       64);
     // entry (a, b) of the Hessian of a cell
-    const auto hessian_entry = [&hessians](const unsigned int cell,
-                                           const unsigned int a,
-                                           const unsigned int b) {
-      return double(hessians[packed_hessian_size * std::size_t(cell) +
+    const auto hessian_entry = [&hessians, &hessian_scales](
+                                 const unsigned int cell,
+                                 const unsigned int a,
+                                 const unsigned int b) {
+      return hessian_scales[cell] *
+             double(hessians[packed_hessian_size * std::size_t(cell) +
                              packed_position(a, b)]);
     };
 
@@ -770,6 +785,7 @@ namespace Signorini
             work.factors.clear();
             work.airy_columns.clear();
             work.airy_inverses.clear();
+            work.airy_scales.clear();
             const unsigned int first = block * patches_per_block;
             const unsigned int last =
               std::min<unsigned int>(first + patches_per_block,
@@ -837,10 +853,18 @@ namespace Signorini
                           FullMatrix<double>(IdentityMatrix(k)), reduced);
                         f.mTmult(inverse, f);
                       }
+                    // (stored divided by its largest diagonal entry, in
+                    // double: single precision holds its values' range only
+                    // relative to a scale, which goes as E / |E|)
+                    double scale = 0.;
                     for (unsigned int i = 0; i < k; ++i)
-                      work.airy_inverses.insert(work.airy_inverses.end(),
-                                                &inverse(i, i),
-                                                &inverse(i, 0) + k);
+                      scale = std::max(scale, std::abs(inverse(i, i)));
+                    if (!(scale > 0.) || !std::isfinite(scale))
+                      scale = 1.;
+                    work.airy_scales.push_back(scale);
+                    for (unsigned int i = 0; i < k; ++i)
+                      for (unsigned int l = i; l < k; ++l)
+                        work.airy_inverses.push_back(inverse(i, l) / scale);
                     work.airy_columns.insert(work.airy_columns.end(),
                                              patch.airy_columns.begin(),
                                              patch.airy_columns.end());
@@ -873,6 +897,7 @@ namespace Signorini
             blocks[block].factors       = work.factors;
             blocks[block].airy_columns  = work.airy_columns;
             blocks[block].airy_inverses = work.airy_inverses;
+            blocks[block].airy_scales   = work.airy_scales;
           }
       },
       1);
@@ -955,9 +980,9 @@ namespace Signorini
                   local[b] = x[4 * edges[b / 4] + b % 4];
                 const std::array<double, 12> product = packed_product(
                   &hessians[packed_hessian_size * std::size_t(cell)], local);
-                std::copy(product.begin(),
-                          product.end(),
-                          cell_values.begin() + 12 * std::size_t(cell));
+                const double scale = hessian_scales[cell];
+                for (unsigned int b = 0; b < 12; ++b)
+                  cell_values[12 * std::size_t(cell) + b] = scale * product[b];
               }
         },
         256);
@@ -1017,6 +1042,7 @@ namespace Signorini
               const double      *factor       = block.factors.data();
               const AiryColumns *airy_columns = block.airy_columns.data();
               const float       *inverse      = block.airy_inverses.data();
+              const double      *airy_scale   = block.airy_scales.data();
               double     *correction  = corrections.data() + block_offset[b];
               std::size_t other_slots = 0; // in block.slots
               for (const auto &[n, k, n_airy] : block.sizes)
@@ -1060,6 +1086,9 @@ namespace Signorini
                             }
                           values[i] += value;
                         }
+                      for (unsigned int i = 0; i < k; ++i)
+                        values[i] *= *airy_scale;
+                      ++airy_scale;
                       for (unsigned int j = 0; j < n_airy; ++j)
                         {
                           const AiryColumns           &edge = airy_columns[j];
@@ -1196,7 +1225,9 @@ namespace Signorini
               in_region[vertex] = true;
             region_corrections.push_back(describe_region(
               region,
-              ArrayView<const float>(hessians.data(), hessians.size())));
+              ArrayView<const float>(hessians.data(), hessians.size()),
+              ArrayView<const double>(hessian_scales.data(),
+                                      hessian_scales.size())));
             region_corrections.back().add_correction(residual, preconditioned);
           }
       }

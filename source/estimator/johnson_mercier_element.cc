@@ -519,14 +519,20 @@ namespace Signorini
         stiffness(1, j)                    = stress[1][1];
         stiffness(2, j)                    = stress[0][1];
       }
+    // (inverted relative to its largest entry: the determinant, of the
+    // order of E^3, leaves the range of doubles for E = 1e-300 or 1e300)
+    const double scale = stiffness.linfty_norm();
+    stiffness /= scale;
     FullMatrix<double> inverse(3, 3);
     inverse.invert(stiffness);
     // S = diag(1, 1, 2) J, symmetric up to round-off
     FullMatrix<double> result(3, 3);
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
-        result(i, j) = 0.5 * ((i == 2 ? 2. : 1.) * inverse(i, j) +
-                              (j == 2 ? 2. : 1.) * inverse(j, i));
+        result(i, j) = 0.5 *
+                       ((i == 2 ? 2. : 1.) * inverse(i, j) +
+                        (j == 2 ? 2. : 1.) * inverse(j, i)) /
+                       scale;
     return result;
   }
 

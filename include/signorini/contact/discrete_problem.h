@@ -160,6 +160,10 @@ namespace Signorini
     const LA::Vector &
     load() const;
 
+    /// K (raw, as the residuals use it).
+    const LA::SparseMatrix &
+    stiffness() const;
+
     const AffineConstraints<double> &
     constraints() const;
 

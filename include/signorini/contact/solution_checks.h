@@ -20,12 +20,15 @@ namespace Signorini
    * - multiplier_sign: max (y)_- over max |y| (Gamma <= 0, or Lambda <= 0);
    * - complementarity: max |y_i (b - B u)_i| over both scales;
    * - residual: max over dofs free of Dirichlet data of |F + f_c - K u|, f_c
-   *   the contact forces -B^T y, over max |F + f_c|;
+   *   the contact forces -B^T y, over max |F + f_c| or, if larger, the
+   *   largest force K_ii |u_D,i| of the imposed displacements (the scale
+   *   of a problem loaded only by them, such as a rigid translation);
    * - resultant: global equilibrium of applied load, contact forces and
    *   Dirichlet reactions (taken as the residual at Dirichlet dofs): the
    *   largest of the force components and of the moment (divided by the
    *   diameter; in 3D of the three components of the moment), over the sum
-   *   of the magnitudes of all these nodal forces.
+   *   of the magnitudes of all these nodal forces or, if larger, that of
+   *   the forces K_ii |u_D,i|.
    */
   struct SolutionChecks
   {

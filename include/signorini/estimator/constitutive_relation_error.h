@@ -59,6 +59,9 @@ namespace Signorini
       /// patch)
       double       condition_defect     = 0.;
       unsigned int positive_multipliers = 0; ///< pointwise: Lambda_i > 0
+      /// No stress and no contact work, to round-off (no load, or a rigid
+      /// motion imposed): the solution is exact and eps = 0.
+      bool stress_free = false;
     };
 
     /// Section Error estimator: Enable, and the stress reconstructions.

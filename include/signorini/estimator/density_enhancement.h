@@ -227,6 +227,9 @@ namespace Signorini
       /// of the columns of Z, exactly equilibrated, whatever its
       /// coefficients.
       std::vector<float> airy_inverses;
+      /// The Airy patches: the scale of each one's airy_inverses (their
+      /// values are these times the stored ones).
+      std::vector<double> airy_scales;
 
       /// @p function(q, j, slot) for each slot of each patch q of the
       /// block, j its position among the slots of the block, in the order
@@ -296,14 +299,16 @@ namespace Signorini
     /**
      * The correction of the region of the vertices @p region
      * (region_vertices()) with the element Hessians @p hessians (their
-     * upper triangles, as run() stores them, by active cell index; those of
-     * the owned cells are read), the
+     * upper triangles, as run() stores them, by active cell index, each
+     * divided by its entry of @p hessian_scales; those of the owned cells
+     * are read), the
      * same on every rank: each patch is described by the rank that computes
      * it and each cell's Hessian comes from its owner.
      */
     RegionCorrection
     describe_region(const std::vector<unsigned int> &region,
-                    const ArrayView<const float>    &hessians) const;
+                    const ArrayView<const float>    &hessians,
+                    const ArrayView<const double>   &hessian_scales) const;
 
     /// The patch of @p vertex into @p patch: its slots, their positions in
     /// its cells and the basis of its equilibrated changes.
