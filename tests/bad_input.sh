@@ -1338,12 +1338,6 @@ case_prm "Check tolerance = 0" "Contact/Check tolerance: The entry value 0" \
   "subsection Contact
   set Check tolerance = 0
 end"
-case_prm "Active set/Inexact tolerance = 0" "Contact/Active set/Inexact tolerance: The entry value 0" \
-  "subsection Contact
-  subsection Active set
-    set Inexact tolerance = 0
-  end
-end"
 
 # Line endings: CR alone would make the file one comment line
 tr '\n' '\r' < "$block" > "$work/cr.prm"
