@@ -1,12 +1,6 @@
-#include <deal.II/base/conditional_ostream.h>
-#include <deal.II/base/mpi.h>
-#include <deal.II/base/timer.h>
-
 #include <signorini/contact/active_set_solver.h>
 
 #include <algorithm>
-#include <cmath>
-#include <iostream>
 #include <numeric>
 #include <set>
 
@@ -71,12 +65,6 @@ namespace Signorini
                       "Rebuild the elasticity preconditioner for the current "
                       "active set when more than this fraction of the contact "
                       "rows changed state since it was built.");
-    prm.declare_entry("Progress interval",
-                      "10",
-                      Patterns::Double(0.),
-                      "Print the iteration, the active rows and the time "
-                      "after an iteration that ends this many seconds after "
-                      "the last line (0: never).");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -93,7 +81,6 @@ namespace Signorini
     inexact_tolerance = prm.get_double("Inexact tolerance");
     preconditioner_update_fraction =
       prm.get_double("Preconditioner update fraction");
-    progress_interval = prm.get_double("Progress interval");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -130,26 +117,9 @@ namespace Signorini
     // (without constraints the first solve is the last: make it exact)
     bool              exact = (inexact_tolerance == 0. || m == 0);
     std::vector<bool> preconditioned(m, false);
-    // (rank 0 prints; every rank takes the same steps)
-    ConditionalOStream progress(
-      std::cout, Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0);
-    Timer  progress_timer;
-    double next_progress = progress_interval;
 
     while (true)
       {
-        if (progress_interval > 0. &&
-            progress_timer.wall_time() >= next_progress)
-          {
-            progress << "   active set: iteration " << report.iterations
-                     << ", "
-                     << std::count(active.begin(), active.end(), true)
-                     << " of " << m << " rows active, "
-                     << report.linear_iterations << " CG iterations after "
-                     << std::round(progress_timer.wall_time()) << " s"
-                     << std::endl;
-            next_progress = progress_timer.wall_time() + progress_interval;
-          }
         unsigned int drift = 0;
         for (unsigned int i = 0; i < m; ++i)
           drift += (active[i] != preconditioned[i]) ? 1 : 0;

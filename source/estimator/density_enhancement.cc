@@ -1,8 +1,5 @@
 #include <deal.II/base/aligned_vector.h>
-#include <deal.II/base/conditional_ostream.h>
-#include <deal.II/base/mpi.h>
 #include <deal.II/base/parallel.h>
-#include <deal.II/base/timer.h>
 
 #include <deal.II/lac/lapack_full_matrix.h>
 
@@ -10,8 +7,6 @@
 #include <signorini/estimator/small_matrices.h>
 
 #include <algorithm>
-#include <cmath>
-#include <iostream>
 
 namespace Signorini
 {
@@ -1246,23 +1241,8 @@ namespace Signorini
     direction               = preconditioned;
     double residual_product = residual * preconditioned;
     Result result;
-    // a line every 10 s on rank 0: on large 3D meshes the iterations take
-    // minutes (every rank takes the same iterations; only the clock differs)
-    ConditionalOStream progress(std::cout,
-                                Utilities::MPI::this_mpi_process(
-                                  communicator) == 0);
-    Timer              progress_timer;
-    double             next_progress = 10.;
     while (result.iterations < max_iterations && residual_product > 0.)
       {
-        if (progress_timer.wall_time() >= next_progress)
-          {
-            progress << "   estimate: enhanced densities, iteration "
-                     << result.iterations << " of at most " << max_iterations
-                     << " after " << std::round(progress_timer.wall_time())
-                     << " s" << std::endl;
-            next_progress = progress_timer.wall_time() + 10.;
-          }
         apply_hessian(direction, hessian_direction);
         const double curvature = direction * hessian_direction;
         if (!(curvature > 0.))

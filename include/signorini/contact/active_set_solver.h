@@ -53,8 +53,6 @@ namespace Signorini
     unsigned int max_iterations = 100;
     /// CG tolerance while the active set still changes.
     double inexact_tolerance = 1e-6;
-    /// Seconds between progress lines (0: none).
-    double progress_interval = 10.;
     /// Rebuild the preconditioner when this fraction of rows changed.
     double preconditioner_update_fraction = 0.02;
   };
