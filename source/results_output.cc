@@ -10,6 +10,7 @@
 #include <signorini/adaptation/mesh_quality.h>
 #include <signorini/cell_data_postprocessor.h>
 #include <signorini/input_error.h>
+#include <signorini/progress.h>
 #include <signorini/results_output.h>
 #include <signorini/stress_postprocessor.h>
 
@@ -102,7 +103,8 @@ namespace Signorini
       prm.declare_entry("Print timing",
                         "true",
                         Patterns::Bool(),
-                        "Print the TimerOutput summary and the solve time on "
+                        "Print the TimerOutput summary, the solve time and, "
+                        "every 10 s of a long phase, a progress line on "
                         "screen (off in regression tests: times vary).");
     }
     prm.leave_subsection();
@@ -126,6 +128,7 @@ namespace Signorini
     prm.enter_subsection("Output");
     with_vtu    = prm.get_bool("Write vtu");
     with_timing = prm.get_bool("Print timing");
+    Progress::set_interval(with_timing ? 10. : 0.);
     prm.leave_subsection();
   }
 

@@ -1,8 +1,10 @@
 #include <signorini/contact/active_set_solver.h>
+#include <signorini/progress.h>
 
 #include <algorithm>
 #include <numeric>
 #include <set>
+#include <string>
 
 namespace Signorini
 {
@@ -117,9 +119,17 @@ namespace Signorini
     // (without constraints the first solve is the last: make it exact)
     bool              exact = (inexact_tolerance == 0. || m == 0);
     std::vector<bool> preconditioned(m, false);
+    Progress          progress("active set", u.get_mpi_communicator());
 
     while (true)
       {
+        progress.report([&]() {
+          return "iteration " + std::to_string(report.iterations) + ", " +
+                 std::to_string(
+                   std::count(active.begin(), active.end(), true)) +
+                 " of " + std::to_string(m) + " rows active, " +
+                 std::to_string(report.linear_iterations) + " CG iterations";
+        });
         unsigned int drift = 0;
         for (unsigned int i = 0; i < m; ++i)
           drift += (active[i] != preconditioned[i]) ? 1 : 0;

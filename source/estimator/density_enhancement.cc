@@ -5,6 +5,7 @@
 
 #include <signorini/estimator/density_enhancement.h>
 #include <signorini/estimator/small_matrices.h>
+#include <signorini/progress.h>
 
 #include <algorithm>
 
@@ -1239,10 +1240,15 @@ namespace Signorini
     };
 
     direction               = preconditioned;
-    double residual_product = residual * preconditioned;
-    Result result;
+    double   residual_product = residual * preconditioned;
+    Result   result;
+    Progress progress("estimate, enhanced densities", communicator);
     while (result.iterations < max_iterations && residual_product > 0.)
       {
+        progress.report([&]() {
+          return "iteration " + std::to_string(result.iterations) +
+                 " of at most " + std::to_string(max_iterations);
+        });
         apply_hessian(direction, hessian_direction);
         const double curvature = direction * hessian_direction;
         if (!(curvature > 0.))

@@ -9,6 +9,7 @@
 
 #include <signorini/estimator/simplex_element_equilibration.h>
 #include <signorini/estimator/small_matrices.h>
+#include <signorini/progress.h>
 
 #include <algorithm>
 #include <array>
@@ -1555,12 +1556,17 @@ namespace Signorini
         r = -r;
       precondition(residual, z);
       direction       = z;
-      double rz       = dot(residual, z);
-      double decrease = 0.;
+      double   rz       = dot(residual, z);
+      double   decrease = 0.;
+      Progress progress("estimate, enhanced densities", context.communicator);
       for (unsigned int iteration = 0;
            iteration < settings.max_iterations && rz > 0.;
            ++iteration)
         {
+          progress.report([&]() {
+            return "iteration " + std::to_string(iteration) + " of at most " +
+                   std::to_string(settings.max_iterations);
+          });
           multiply(direction, false, product);
           const double curvature = dot(direction, product);
           if (!(curvature > 0.))
@@ -1693,6 +1699,8 @@ namespace Signorini
     AssertThrow(!input.dof_handler.get_triangulation().has_hanging_nodes(),
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
+    Progress progress("estimate",
+                      input.dof_handler.get_triangulation().get_communicator());
     Context<dim> context(input, admissible_displacement, settings);
     error_squared.reinit(context.n_cells);
     sum_squared.reinit(context.n_cells);
@@ -1701,6 +1709,7 @@ namespace Signorini
     // 1. the classical densities
     std::vector<double> densities = data_densities(context);
     checks.prolongation           = classical_densities(context, densities);
+    progress.report([]() { return std::string("classical densities done"); });
 
     // 2. the element problems on the cells this rank owns and those of the
     //    patches of the enhancement: around each hinge, a vertex in 2D, an
@@ -1721,6 +1730,7 @@ namespace Signorini
       }
     const ElementQuadratics<dim> quadratics =
       element_quadratics(context, needed);
+    progress.report([]() { return std::string("element problems done"); });
 
     // 3. the enhancement
     if (hinges)
