@@ -199,10 +199,11 @@ namespace Signorini
 
     if (WIFSIGNALED(status))
       {
-        const int signal = WTERMSIG(status);
-        throw std::runtime_error("Gmsh failed: it crashed (" +
-                                 std::string(::strsignal(signal)) +
-                                 ", signal " + std::to_string(signal) + ")");
+        const int   signal = WTERMSIG(status);
+        const char *name   = ::sigabbrev_np(signal);
+        throw std::runtime_error(
+          "Gmsh failed: it crashed (signal " + std::to_string(signal) +
+          (name ? ", SIG" + std::string(name) : "") + ")");
       }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || data.empty())
       throw std::runtime_error("Gmsh failed: its process ended without a "

@@ -112,24 +112,16 @@ namespace Signorini
 
 
     /**
-     * In a child: "" if the sizes of the points of the open model (built-in
-     * kernel) and the size options are positive, else what is wrong. Gmsh
+     * In a child: "" if the sizes of the points of the open model are
+     * positive, else what is wrong. Gmsh
      * throws on a size <= 0 in a parallel region, which aborts; and the
      * estimate would take them for tiny sizes.
      */
     std::string
     check_sizes()
     {
-      for (const char *option : {"Mesh.MeshSizeFactor", "Mesh.MeshSizeMax"})
-        {
-          double value = 0;
-          gmsh::option::getNumber(option, value);
-          if (!(value > 0) || !std::isfinite(value))
-            return std::string("the option ") + option + " = " +
-                   std::to_string(value) + " is not a positive size";
-        }
       // Gmsh 4.8 has no getter of the sizes of points: the unrolled
-      // geometry lists them (only for the built-in kernel: else it throws)
+      // geometry lists them (if Gmsh cannot write it, no check)
       const std::string file =
         (std::filesystem::temp_directory_path() /
          ("signorini-" + std::to_string(::getpid()) + ".geo_unrolled"))

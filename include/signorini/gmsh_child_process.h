@@ -15,8 +15,8 @@ namespace Signorini
    * returns what @p job returns in the child, passed back through a pipe,
    * and turns any way the child can end into an exception of the parent:
    * GmshEndedProgram for an exit(), std::runtime_error for everything else
-   * ("Gmsh failed: <Gmsh's message>", "Gmsh failed: it crashed
-   * (Segmentation fault, signal 11)").
+   * ("Gmsh failed: <Gmsh's message>", "Gmsh failed: it crashed (signal
+   * 11, SIGSEGV)").
    *
    * The child does not touch MPI (Open MPI tolerates a fork after MPI_Init
    * for such a child), writes nothing to the terminal and ends with _exit().
