@@ -4,7 +4,8 @@
 # Usage: bad_input.sh SIGNORINI_EXECUTABLE SOURCE_DIR
 set -u
 exe=$1
-src=$2
+# (absolute: the cases name files from parameter files in other directories)
+src=$(cd "$2" && pwd)
 # the tests' copy of the block example (the line numbers in the expected
 # messages below count its 49 lines); the tests do not read prm/
 block=$src/tests/inputs/block.prm
