@@ -1,15 +1,21 @@
-#include <deal.II/base/utilities.h>
+#include <deal.II/base/mpi.h>
 
+#include <signorini/gmsh_child_process.h>
 #include <signorini/gmsh_geometry.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <gmsh.h>
-#include <iostream>
+#include <iomanip>
 #include <iterator>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -17,89 +23,325 @@ namespace Signorini
 {
   namespace
   {
-    /// What the live GmshExitGuard protects, empty if none (guards do not
-    /// nest).
-    std::string guarded_activity;
-
-    void
-    refuse_exit_in_gmsh()
+    /// The measure of a cell of size h is unit_measure(dim) h^dim: the
+    /// equilateral triangle in 2D; in 3D Gmsh's Delaunay tetrahedra of size
+    /// h, 1 / 0.55 times the regular one (measured, see GmshRemesher).
+    double
+    unit_measure(const unsigned int dim)
     {
-      if (guarded_activity.empty())
-        return;
-      std::cerr << "signorini: error: " << guarded_activity
-                << ": Gmsh ended the program (an Exit command in the file?)"
-                << std::endl;
-      std::_Exit(1);
+      return (dim == 2) ? std::sqrt(3.) / 4. : 1. / (6. * std::sqrt(2.) * 0.55);
+    }
+
+
+
+    /// The coordinates of all nodes of the current Gmsh model, by tag.
+    std::map<std::size_t, std::array<double, 3>>
+    node_coordinates()
+    {
+      std::vector<std::size_t> tags;
+      std::vector<double>      coordinates, parametric;
+      gmsh::model::mesh::getNodes(
+        tags, coordinates, parametric, -1, -1, true, false);
+      std::map<std::size_t, std::array<double, 3>> nodes;
+      for (unsigned int n = 0; n < tags.size(); ++n)
+        nodes[tags[n]] = {
+          {coordinates[3 * n], coordinates[3 * n + 1], coordinates[3 * n + 2]}};
+      return nodes;
+    }
+
+
+
+    /// The sum of the measures of the triangles (@p dim = 2) or tetrahedra
+    /// (3) of the current Gmsh mesh.
+    double
+    mesh_measure(const unsigned int dim)
+    {
+      const auto               nodes = node_coordinates();
+      std::vector<std::size_t> tags, element_nodes;
+      gmsh::model::mesh::getElementsByType(dim == 2 ? 2 : 4,
+                                           tags,
+                                           element_nodes);
+      double measure = 0;
+      for (unsigned int e = 0; e < tags.size(); ++e)
+        {
+          std::array<double, 3> edge[3] = {};
+          const auto           &origin = nodes.at(element_nodes[(dim + 1) * e]);
+          for (unsigned int k = 0; k < dim; ++k)
+            for (unsigned int d = 0; d < 3; ++d)
+              edge[k][d] =
+                nodes.at(element_nodes[(dim + 1) * e + k + 1])[d] - origin[d];
+          const std::array<double, 3> normal = {
+            {edge[0][1] * edge[1][2] - edge[0][2] * edge[1][1],
+             edge[0][2] * edge[1][0] - edge[0][0] * edge[1][2],
+             edge[0][0] * edge[1][1] - edge[0][1] * edge[1][0]}};
+          measure +=
+            (dim == 2) ?
+              std::hypot(normal[0], normal[1], normal[2]) / 2. :
+              std::abs(normal[0] * edge[2][0] + normal[1] * edge[2][1] +
+                       normal[2] * edge[2][2]) /
+                6.;
+        }
+      return measure;
+    }
+
+
+
+    /// The longest edge of the current Gmsh mesh of the curves.
+    double
+    longest_curve_element()
+    {
+      const auto nodes  = node_coordinates();
+      double     length = 0;
+      // 2- and 3-node lines: the first two nodes are the ends
+      for (const auto &[type, n_nodes] : {std::pair<int, int>(1, 2), {8, 3}})
+        {
+          std::vector<std::size_t> tags, element_nodes;
+          gmsh::model::mesh::getElementsByType(type, tags, element_nodes);
+          for (unsigned int e = 0; e < tags.size(); ++e)
+            {
+              const auto &a = nodes.at(element_nodes[n_nodes * e]),
+                         &b = nodes.at(element_nodes[n_nodes * e + 1]);
+              length =
+                std::max(length,
+                         std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+            }
+        }
+      return length;
+    }
+
+
+
+    /**
+     * In a child: "" if the sizes of the points of the open model are
+     * positive, else what is wrong. Gmsh
+     * throws on a size <= 0 in a parallel region, which aborts; and the
+     * estimate would take them for tiny sizes.
+     */
+    std::string
+    check_sizes()
+    {
+      // Gmsh 4.8 has no getter of the sizes of points: the unrolled
+      // geometry lists them (if Gmsh cannot write it, no check)
+      const std::string file =
+        (std::filesystem::temp_directory_path() /
+         ("signorini-" + std::to_string(::getpid()) + ".geo_unrolled"))
+          .string();
+      try
+        {
+          gmsh::write(file);
+        }
+      catch (...)
+        {
+          std::remove(file.c_str());
+          return "";
+        }
+      std::ifstream                 in(file);
+      std::map<std::string, double> variables;
+      const std::regex              variable(R"(^\s*(cl__\d+)\s*=\s*([^;]+);)"),
+        point(R"(^\s*Point\((\d+)\)\s*=\s*\{[^,]*,[^,]*,[^,]*,\s*([^}]+)\})");
+      std::string line, error;
+      std::smatch match;
+      while (error.empty() && std::getline(in, line))
+        if (std::regex_search(line, match, variable))
+          variables[match[1]] = std::strtod(match[2].str().c_str(), nullptr);
+        else if (std::regex_search(line, match, point))
+          {
+            const std::string size  = match[2];
+            const double      value = variables.count(size) ?
+                                        variables[size] :
+                                        std::strtod(size.c_str(), nullptr);
+            if (!(value > 0) || !std::isfinite(value))
+              {
+                std::ostringstream text;
+                text << "Point(" << match[1] << ") has the mesh size " << value
+                     << ": sizes must be positive";
+                error = text.str();
+              }
+          }
+      std::remove(file.c_str());
+      return error;
+    }
+
+
+
+    /**
+     * In a child: the measure of the domain of @p path (from a coarse mesh)
+     * and the longest element Gmsh makes on its curves with the file's
+     * sizes, but none shorter than the size @p floor_size at which the
+     * domain would hold 4 @p max_cells cells (a tiny size cannot make the
+     * estimate itself slow): "S<measure> <size>"; "E<what>" for sizes that
+     * are not positive; "" if the file defines no domain (the reader of
+     * the mesh says so later).
+     */
+    std::string
+    estimate_sizes(const std::string &path,
+                   const unsigned int dim,
+                   const double       max_cells)
+    {
+      gmsh::initialize(0, nullptr, false);
+      gmsh::option::setNumber("General.Terminal", 0);
+      gmsh::option::setNumber("General.Verbosity", 0);
+      gmsh::open(path);
+      gmsh::option::setNumber("General.NumThreads", 1);
+      if (const std::string error = check_sizes(); !error.empty())
+        return "E" + error;
+      gmsh::vectorpair domains;
+      gmsh::model::getEntities(domains, dim);
+      if (domains.empty())
+        return "";
+      double x0, y0, z0, x1, y1, z1;
+      gmsh::model::getBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1);
+      const double diameter = std::hypot(x1 - x0, y1 - y0, z1 - z0);
+      double       size_min = 0, size_max = 0;
+      gmsh::option::getNumber("Mesh.MeshSizeMin", size_min);
+      gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", diameter / 20.);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", diameter / 20.);
+      gmsh::model::mesh::generate(dim);
+      const double measure = mesh_measure(dim);
+      gmsh::model::mesh::clear();
+      if (!(measure > 0) || !std::isfinite(measure))
+        return "";
+      const double floor_size =
+        std::pow(measure / (unit_measure(dim) * 4. * std::min(max_cells, 2e9)),
+                 1. / dim);
+      gmsh::option::setNumber("Mesh.MeshSizeMin",
+                              std::max(size_min, floor_size));
+      gmsh::option::setNumber("Mesh.MeshSizeMax", size_max);
+      gmsh::model::mesh::generate(1);
+      std::ostringstream text;
+      text << std::setprecision(17) << "S" << measure << ' '
+           << longest_curve_element();
+      gmsh::finalize();
+      return text.str();
+    }
+
+
+
+    /// In a child: the mesh of @p path as Gmsh makes it, the text of an
+    /// ASCII msh 4.1 file.
+    std::string
+    mesh_in_child(const std::string &path, const unsigned int dim)
+    {
+      // Gmsh writes meshes to files only: a private temporary one
+      const std::string mesh_file =
+        (std::filesystem::temp_directory_path() /
+         ("signorini-" + std::to_string(::getpid()) + ".msh"))
+          .string();
+      // (not the user's Gmsh configuration files: the same mesh everywhere)
+      gmsh::initialize(0, nullptr, false);
+      gmsh::option::setNumber("General.Terminal", 0);
+      gmsh::option::setNumber("General.Verbosity", 0);
+      gmsh::open(path);
+      gmsh::option::setNumber("General.NumThreads", 1);
+      gmsh::model::mesh::generate(dim);
+      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+      gmsh::option::setNumber("Mesh.Binary", 0);
+      gmsh::option::setNumber("Mesh.SaveAll", 0);
+      gmsh::option::setNumber("Mesh.SaveParametric", 0);
+      gmsh::write(mesh_file);
+      gmsh::finalize();
+      std::ifstream in(mesh_file, std::ios::binary);
+      std::string   text((std::istreambuf_iterator<char>(in)),
+                       std::istreambuf_iterator<char>());
+      const bool    read = in.good() || in.eof();
+      std::remove(mesh_file.c_str());
+      if (!read)
+        throw std::runtime_error("cannot read the mesh Gmsh wrote to <" +
+                                 mesh_file + ">");
+      return text;
+    }
+
+
+
+    /// A number of cells for a message.
+    std::string
+    cell_count(const double n)
+    {
+      std::ostringstream text;
+      if (n < 1e15)
+        text << static_cast<long long>(std::round(n));
+      else
+        text << std::setprecision(3) << n;
+      return text.str();
+    }
+
+
+
+    /// mesh_geometry_file() on this rank.
+    std::string
+    mesh_here(const std::string &path,
+              const unsigned int dim,
+              const double       max_cells)
+    {
+      if (!std::filesystem::is_regular_file(path))
+        throw InputError("cannot open geometry file <" + path + ">");
+      const std::string what = "geometry file <" + path + ">: ";
+      try
+        {
+          const std::string estimate = run_in_gmsh_child(
+            [&]() { return estimate_sizes(path, dim, max_cells); },
+            "estimating the mesh of " + path);
+          if (!estimate.empty() && estimate[0] == 'E')
+            throw InputError(what + estimate.substr(1));
+          std::istringstream numbers(
+            estimate.substr(std::min<std::size_t>(1, estimate.size())));
+          double measure = 0, size = 0;
+          if (numbers >> measure >> size && size > 0)
+            {
+              const double n_cells =
+                measure / (unit_measure(dim) * std::pow(size, dim));
+              if (n_cells > max_cells)
+                {
+                  std::ostringstream n;
+                  n << std::setprecision(2) << n_cells << " "
+                    << (dim == 2 ? "triangles (its area " :
+                                   "tetrahedra (its volume ")
+                    << std::setprecision(4) << measure
+                    << " over cells of the largest size on its curves, " << size
+                    << ")";
+                  throw InputError(
+                    what + "its mesh sizes would make at least about " +
+                    n.str() + ", more than Maximum cells = " +
+                    cell_count(max_cells) + "; refused before meshing");
+                }
+            }
+          return run_in_gmsh_child([&]() { return mesh_in_child(path, dim); },
+                                   "meshing " + path + " in " +
+                                     std::to_string(dim) + "D");
+        }
+      catch (const InputError &)
+        {
+          throw;
+        }
+      catch (const std::exception &exc)
+        {
+          throw InputError(what + one_line_message(exc.what()));
+        }
     }
   } // namespace
 
 
 
-  GmshExitGuard::GmshExitGuard(const std::string &what)
-  {
-    static const bool registered = std::atexit(refuse_exit_in_gmsh) == 0;
-    (void)registered;
-    guarded_activity = what;
-  }
-
-
-
-  GmshExitGuard::~GmshExitGuard()
-  {
-    guarded_activity.clear();
-  }
-
-
-
   std::string
-  mesh_geometry_file(const std::string &path, const unsigned int dim)
+  mesh_geometry_file(const std::string &path,
+                     const unsigned int dim,
+                     const double       max_cells)
   {
-    if (!std::filesystem::is_regular_file(path))
-      throw InputError("cannot open geometry file <" + path + ">");
-    // Gmsh writes meshes to files only: a private temporary one
-    static unsigned int count     = 0;
-    const std::string   mesh_file = (std::filesystem::temp_directory_path() /
-                                   ("signorini-" + std::to_string(::getpid()) +
-                                    "-" + std::to_string(count++) + ".msh"))
-                                    .string();
-    std::string         error, text;
-    const GmshExitGuard guard("Mesh/File name: geometry file <" + path + ">");
-    // (not the user's Gmsh configuration files: the same mesh everywhere)
-    gmsh::initialize(0, nullptr, false);
-    try
-      {
-        gmsh::option::setNumber("General.Terminal", 0);
-        gmsh::option::setNumber("General.Verbosity", 0);
-        gmsh::open(path);
-        gmsh::option::setNumber("General.NumThreads", 1);
-        gmsh::model::mesh::generate(dim);
-        gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-        gmsh::option::setNumber("Mesh.Binary", 0);
-        gmsh::option::setNumber("Mesh.SaveAll", 0);
-        gmsh::option::setNumber("Mesh.SaveParametric", 0);
-        gmsh::write(mesh_file);
-      }
-    catch (const std::string &message)
-      {
-        error = message.empty() ? "Gmsh cannot mesh it" : message;
-      }
-    catch (const std::exception &exc)
-      {
-        error = exc.what();
-      }
-    gmsh::finalize();
-    if (error.empty())
-      {
-        std::ifstream in(mesh_file, std::ios::binary);
-        text.assign(std::istreambuf_iterator<char>(in),
-                    std::istreambuf_iterator<char>());
-        if (!in.good() && !in.eof())
-          error = "cannot read the mesh Gmsh wrote to <" + mesh_file + ">";
-      }
-    std::remove(mesh_file.c_str());
+    const MPI_Comm communicator = MPI_COMM_WORLD;
+    std::string    error, text;
+    if (dealii::Utilities::MPI::this_mpi_process(communicator) == 0)
+      try
+        {
+          text = mesh_here(path, dim, max_cells);
+        }
+      catch (const std::exception &exc)
+        {
+          error = exc.what();
+        }
+    error = dealii::Utilities::MPI::broadcast(communicator, error);
     if (!error.empty())
-      throw InputError("geometry file <" + path +
-                       ">: Gmsh failed: " + one_line_message(error));
-    return text;
+      throw InputError(error);
+    return dealii::Utilities::MPI::broadcast(communicator, text);
   }
 } // namespace Signorini

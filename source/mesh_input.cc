@@ -117,6 +117,15 @@ namespace Signorini
 
 
   template <int dim>
+  void
+  MeshInput<dim>::set_maximum_cells(const double max_cells)
+  {
+    this->max_cells = max_cells;
+  }
+
+
+
+  template <int dim>
   std::string
   MeshInput<dim>::path_of(const std::string &name) const
   {
@@ -278,10 +287,11 @@ namespace Signorini
             // a geometry is meshed by Gmsh first, with its own sizes
             const bool geometry =
               path.size() > 4 && path.compare(path.size() - 4, 4, ".geo") == 0;
-            *mesh = geometry ?
-                      read_gmsh_text<dim>(path + " as meshed by Gmsh",
-                                          mesh_geometry_file(path, dim)) :
-                      read_gmsh_file<dim>(path);
+            *mesh =
+              geometry ?
+                read_gmsh_text<dim>(path + " as meshed by Gmsh",
+                                    mesh_geometry_file(path, dim, max_cells)) :
+                read_gmsh_file<dim>(path);
           }
         catch (const InputError &exc)
           {

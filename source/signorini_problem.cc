@@ -82,6 +82,7 @@ namespace Signorini
     exact_solution.parse_parameters(prm);
     mesh_input.parse_parameters(prm);
     mesh_input.set_input_directory(input_directory);
+    mesh_input.set_maximum_cells(max_cells);
     estimator.parse_parameters(prm);
     size_predictor = SizePredictor::registry().create(prm, dim);
     adaptation_target.parse_parameters(prm);

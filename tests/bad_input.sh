@@ -4,7 +4,8 @@
 # Usage: bad_input.sh SIGNORINI_EXECUTABLE SOURCE_DIR
 set -u
 exe=$1
-src=$2
+# (absolute: the cases name files from parameter files in other directories)
+src=$(cd "$2" && pwd)
 # the tests' copy of the block example (the line numbers in the expected
 # messages below count its 49 lines); the tests do not read prm/
 block=$src/tests/inputs/block.prm
@@ -1377,6 +1378,119 @@ else
   failures=$((failures + 1))
 fi
 check "--print-parameters 4" "print-parameters 4: the dimension is 2 or 3" --print-parameters 4
+
+# --- Gmsh on hostile geometry (issue 34) ---
+# Gmsh runs on a user's .geo in a child process: an abort, a segfault or an
+# Exit there is one error line, exit 1; sizes <= 0 and sizes that would make
+# more than Maximum cells are refused before meshing; a remeshing geometry
+# must be the domain of the mesh (one body, box, measure, boundary ids).
+geo_neg=$work/cube-negative.geo
+sed 's/, 0.5};/, -0.5};/' "$src/tests/meshes/cube.geo" > "$geo_neg"
+cube_case "Gmsh: negative sizes" \
+  "Mesh/File name: geometry file <$geo_neg>: Point(1) has the mesh size -0.5: sizes must be positive" "$geo_neg"
+check "Gmsh: negative sizes, --validate" "Point(1) has the mesh size -0.5" --validate "$work/cube.prm"
+{ grep -v '^//' "$src/tests/meshes/cube.geo"
+  printf 'Mesh.RecombineAll = 1;\nMesh.Recombine3DAll = 1;\nMesh.Algorithm = 8;\n'; } > "$work/cube-recombined.geo"
+cube_case "Gmsh: segfault on recombined 3D meshing" \
+  "Mesh/File name: geometry file <$work/cube-recombined.geo>: Gmsh failed: it crashed (signal 11, SIGSEGV)" \
+  "$work/cube-recombined.geo"
+sed 's/, 0.5};/, 1e-3};/' "$src/tests/meshes/cube.geo" > "$work/cube-tiny.geo"
+cube_case "Gmsh: tiny sizes in 3D, refused before meshing" \
+  "geometry file <$work/cube-tiny.geo>: its mesh sizes would make at least about 1.6e+07 tetrahedra .*more than Maximum cells = 4000000; refused before meshing" \
+  "$work/cube-tiny.geo"
+sed 's/, 0.5};/, 1e-12};/' "$src/tests/meshes/cube.geo" > "$work/cube-tinier.geo"
+cube_case "Gmsh: sizes of 1e-12 in 3D" \
+  "its mesh sizes would make at least about .* tetrahedra .*more than Maximum cells" "$work/cube-tinier.geo"
+{ cube_prm "$src/tests/meshes/cube.geo"; printf 'set Maximum cells = 20\n'; } > "$work/cube.prm"
+check "Gmsh: the cube beyond a small Maximum cells" \
+  "cube.geo>: its mesh sizes would make at least about .* tetrahedra .*more than Maximum cells = 20" "$work/cube.prm"
+sed 's/^lc = 0.5;/lc = 1e-4;/' "$src/tests/meshes/square.geo" > "$work/square-tiny.geo"
+case_prm "Gmsh: tiny sizes in 2D" \
+  "Mesh/File name: geometry file <$work/square-tiny.geo>: its mesh sizes would make at least about .* triangles" \
+  "subsection Mesh
+  set Source = file
+  set File name = $work/square-tiny.geo
+end"
+sed 's/^lc = 0.5;/lc = -1;/' "$src/tests/meshes/square.geo" > "$work/square-negative.geo"
+case_prm "Gmsh: negative sizes in 2D" "Point(1) has the mesh size -1: sizes must be positive" \
+  "subsection Mesh
+  set Source = file
+  set File name = $work/square-negative.geo
+end"
+# the remeshing geometry against the mesh. hertz_remeshing NAME EXPECTED
+# GEOMETRY [MESH]: the adaptive Hertz test with GEOMETRY and MESH (by default
+# its coarse mesh), an input error
+hertz_geo=$src/tests/meshes/hertz-geometry.geo
+hertz_coarse=$src/tests/meshes/hertz-coarse.msh
+hertz_remeshing() {
+  sed -e "s|set File name *=.*|set File name = ${4:-$hertz_coarse}|" \
+      -e "s|set Geometry file *=.*|set Geometry file = $3|" \
+      -e "s|set Output directory *=.*|set Output directory = $work/out|" \
+      "$src/tests/hertz_adaptive.prm" > "$work/hertz.prm"
+  check "$1" "$2" "$work/hertz.prm"
+}
+sed 's/^R = 1;/R = 2;/' "$hertz_geo" > "$work/hertz-twice.geo"
+hertz_remeshing "Gmsh: geometry twice the mesh" \
+  "Mesh/Geometry file: <$work/hertz-twice.geo> is not the domain of the mesh <$hertz_coarse>: its domain spans \[0, 2\] x \[-2, 0\], the mesh's \[0, 1\] x \[-1, 0\]" \
+  "$work/hertz-twice.geo"
+sed 's/^R = 1;/R = 3;/' "$hertz_geo" > "$work/hertz-thrice.geo"
+hertz_remeshing "Gmsh: geometry three times the mesh" "hertz-thrice.geo> is not the domain of the mesh" \
+  "$work/hertz-thrice.geo"
+sed 's/^R = 1;/R = 1.1;/' "$hertz_geo" > "$work/hertz-larger.geo"
+hertz_remeshing "Gmsh: geometry 10 % larger" "hertz-larger.geo> is not the domain of the mesh" \
+  "$work/hertz-larger.geo"
+sed -e 's/Physical Curve(2) = {1};/Physical Curve(3) = {1};/' \
+    -e 's/Physical Curve(3) = {2};/Physical Curve(2) = {2};/' "$hertz_geo" > "$work/hertz-swapped.geo"
+hertz_remeshing "Gmsh: contact and loaded tags swapped" \
+  "hertz-swapped.geo> is not the domain of the mesh .*: its boundary id 2 has the length 1, the mesh's 1.57" \
+  "$work/hertz-swapped.geo"
+# (the symmetry line in two halves, ids 1 and 8)
+sed -e 's/^Line(3) = {1, 3};/Point(4) = {0, -R \/ 2, 0};\nLine(3) = {1, 4};\nLine(4) = {4, 3};/' \
+    -e 's/^Curve Loop(1) = {1, 2, 3};/Curve Loop(1) = {1, 2, 3, 4};/' \
+    -e 's/^Physical Curve(1) = {3};/Physical Curve(1) = {3};\nPhysical Curve(8) = {4};/' \
+    "$hertz_geo" > "$work/hertz-extra-id.geo"
+hertz_remeshing "Gmsh: geometry with a boundary id the mesh lacks" \
+  "its boundary ids (physical curves) are {1, 2, 3, 8}, the mesh's {1, 2, 3}" \
+  "$work/hertz-extra-id.geo"
+hertz_remeshing "Gmsh: a mesh as the geometry" \
+  "Mesh/Geometry file: <$hertz_coarse> is not a Gmsh geometry (.geo) file" "$hertz_coarse"
+{ cat "$hertz_geo"
+  printf 'Point(11) = {3, 0, 0};\nPoint(12) = {4, 0, 0};\nPoint(13) = {4, 1, 0};\n'
+  printf 'Line(11) = {11, 12};\nLine(12) = {12, 13};\nLine(13) = {13, 11};\n'
+  printf 'Curve Loop(11) = {11, 12, 13};\nPlane Surface(11) = {11};\nPhysical Surface(2) = {11};\n'; } > "$work/hertz-two.geo"
+hertz_remeshing "Gmsh: geometry of two bodies" \
+  "hertz-two.geo> is not the domain of the mesh .*: it holds 2 separate bodies" "$work/hertz-two.geo"
+sed -e 's/Physical Surface(2) = {1};/Physical Surface(3) = {1};/' \
+    -e 's/Physical Surface(3) = {out\[0\]};/Physical Surface(2) = {out[0]};/' \
+    "$src/tests/meshes/cube.geo" > "$work/cube-swapped.geo"
+cube_adaptive remeshing "$work/cube-swapped.geo" > "$work/cube.prm"
+check "Gmsh: 3D geometry with contact and loaded faces swapped (same areas)" \
+  "cube-swapped.geo> is not the domain of the mesh .*: its boundary id 2 spans \[0, 1\] x \[0, 1\] x \[1, 1\], the mesh's \[0, 1\] x \[0, 1\] x \[0, 0\]" \
+  "$work/cube.prm"
+sed 's/Extrude {0, 0, 1}/Extrude {0, 0, 2}/' "$src/tests/meshes/cube.geo" > "$work/cube-tall.geo"
+cube_adaptive remeshing "$work/cube-tall.geo" > "$work/cube.prm"
+check "Gmsh: 3D geometry twice as tall" "its domain spans \[0, 1\] x \[0, 1\] x \[0, 2\]" "$work/cube.prm"
+# the remeshing sets its own options: those that crash Gmsh in the file are
+# overridden, the geometry is valid
+cube_adaptive remeshing "$work/cube-recombined.geo" > "$work/cube.prm"
+valid_prm "Gmsh: remeshing a geometry with crashing options" --validate "$work/cube.prm"
+cube_adaptive remeshing "$geo_neg" > "$work/cube.prm"
+valid_prm "Gmsh: remeshing a geometry with negative sizes (remeshing brings its own)" \
+  --validate "$work/cube.prm"
+# the same on 2 MPI ranks: one line, exit 1, every rank stops cleanly
+if command -v mpirun > /dev/null; then
+  printf '#!/bin/sh\nOMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 exec mpirun -q -np 2 %s "$@"\n' \
+    "$(readlink -f "$exe")" > "$work/mpirun2.sh"
+  chmod +x "$work/mpirun2.sh"
+  serial_exe=$exe
+  exe=$work/mpirun2.sh
+  cube_case "Gmsh, 2 ranks: negative sizes" "Point(1) has the mesh size -0.5" "$geo_neg"
+  cube_case "Gmsh, 2 ranks: segfault" "Gmsh failed: it crashed (signal 11, SIGSEGV)" "$work/cube-recombined.geo"
+  cube_case "Gmsh, 2 ranks: tiny sizes" "more than Maximum cells = 4000000; refused before meshing" "$work/cube-tiny.geo"
+  hertz_remeshing "Gmsh, 2 ranks: contact and loaded tags swapped" \
+    "hertz-swapped.geo> is not the domain of the mesh" "$work/hertz-swapped.geo"
+  exe=$serial_exe
+fi
 
 # the documented defaults parse back; they name no support, so --validate
 # says what is missing (the defaults are a template, not a case)

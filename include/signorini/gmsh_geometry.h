@@ -10,26 +10,24 @@ namespace Signorini
    * Gmsh C++ API, as `gmsh -dim path` would (the file's own size fields and
    * options), on one thread so that every run and every rank gets the same
    * mesh, and return that mesh as the text of an ASCII msh 4.1 file, for
-   * read_gmsh_text(). Throws InputError naming @p path if Gmsh cannot read
-   * or mesh it.
+   * read_gmsh_text().
+   *
+   * Gmsh runs in a child process (run_in_gmsh_child()): a crash of Gmsh on
+   * the file is an error of the file, not of the program. Before the mesh
+   * is made, the file's sizes are checked against @p max_cells (Maximum
+   * cells, which otherwise applies only after meshing, possibly hours
+   * later): a lower estimate of the number of cells, the measure of the
+   * domain over that of a cell of the largest size Gmsh uses on its curves,
+   * beyond @p max_cells is refused.
+   *
+   * Collective on MPI_COMM_WORLD: rank 0 meshes, the other ranks receive the
+   * text. Throws InputError naming @p path on every rank if Gmsh cannot read
+   * or mesh the file, or if its sizes would make too many cells.
    */
   std::string
-  mesh_geometry_file(const std::string &path, const unsigned int dim);
-
-  /**
-   * While an object of this class lives, an exit of the program is an
-   * error: a .geo file can end the program through Gmsh (its Exit command
-   * calls exit(0)), which would pass for a successful run without results.
-   * Such an exit prints "signorini: error: <what>: Gmsh ended the program
-   * ..." and returns 1 instead. Create one around every call of Gmsh on a
-   * user's file.
-   */
-  class GmshExitGuard
-  {
-  public:
-    explicit GmshExitGuard(const std::string &what);
-    ~GmshExitGuard();
-  };
+  mesh_geometry_file(const std::string &path,
+                     const unsigned int dim,
+                     const double       max_cells);
 } // namespace Signorini
 
 #endif

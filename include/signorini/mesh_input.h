@@ -5,6 +5,7 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -56,6 +57,11 @@ namespace Signorini
     void
     set_input_directory(const std::string &directory);
 
+    /// The largest number of cells a .geo as File name may be meshed into
+    /// (Maximum cells): checked from its sizes before Gmsh meshes it.
+    void
+    set_maximum_cells(const double max_cells);
+
     /// @p name, relative to the input directory unless absolute.
     std::string
     path_of(const std::string &name) const;
@@ -88,15 +94,17 @@ namespace Signorini
     std::string file_name;
     /// Gmsh .geo of the domain of file_name (for remeshing), or empty.
     std::string               geometry_file_name;
-    std::string               input_directory     = ".";
+    std::string               input_directory = ".";
+    double                    max_cells = std::numeric_limits<double>::max();
     std::vector<unsigned int> block_subdivisions  = {4, 3};
     unsigned int              initial_refinements = 0;
 
-  private:
-    /// The mesh of file_name, read and checked at the first call.
+    /// The mesh of file_name, read and checked at the first call
+    /// (collective under MPI for a .geo, which rank 0 meshes).
     const GmshMesh<dim> &
     file_mesh() const;
 
+  private:
     /// What file_mesh() read (shared by copies; reset by parse_parameters()).
     mutable std::shared_ptr<const GmshMesh<dim>> file_mesh_read;
   };

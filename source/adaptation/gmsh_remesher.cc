@@ -4,11 +4,15 @@
 
 #include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/cell_locator.h>
-#include <signorini/gmsh_geometry.h>
+#include <signorini/domain_summary.h>
+#include <signorini/gmsh_child_process.h>
+#include <signorini/gmsh_file_check.h>
 #include <signorini/input_error.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <gmsh.h>
 #include <map>
@@ -125,127 +129,244 @@ namespace Signorini
 
 
     /// The message of a failure of Gmsh on @p geometry_file (empty: the
-    /// block).
+    /// block), from the message @p what of run_in_gmsh_child().
     std::string
     gmsh_failure(const std::string &geometry_file, const std::string &what)
     {
+      const std::string failed = "Gmsh failed";
+      std::string       reason = one_line_message(what);
+      if (reason.compare(0, failed.size(), failed) == 0)
+        reason = reason.substr(std::min(reason.size(), failed.size() + 2));
       return "Mesh adaptation/Realisation = remeshing: Gmsh failed" +
              (geometry_file.empty() ? std::string() :
                                       " on <" + geometry_file + ">") +
-             ": " + one_line_message(what);
+             ": " + reason;
     }
 
 
 
-    /// Mesh the geometry with Gmsh, the size at a point given by
-    /// @p size_at, and flatten the result.
+    /// @p flat as bytes, to pass it from Gmsh's child process.
+    std::string
+    serialize(const FlatMesh &flat)
+    {
+      std::string bytes;
+      const auto  put = [&](const auto &values) {
+        const std::uint64_t n = values.size();
+        bytes.append(reinterpret_cast<const char *>(&n), sizeof(n));
+        bytes.append(reinterpret_cast<const char *>(values.data()),
+                     n * sizeof(values[0]));
+      };
+      put(flat.coordinates);
+      put(flat.cells);
+      put(flat.boundary);
+      return bytes;
+    }
+
+
+
+    /// The inverse of serialize().
+    FlatMesh
+    deserialize(const std::string &bytes)
+    {
+      FlatMesh    flat;
+      std::size_t position = 0;
+      const auto  get      = [&](auto &values) {
+        std::uint64_t n = 0;
+        AssertThrow(position + sizeof(n) <= bytes.size(),
+                    ExcMessage("truncated mesh from Gmsh"));
+        std::memcpy(&n, bytes.data() + position, sizeof(n));
+        position += sizeof(n);
+        AssertThrow(n <= (bytes.size() - position) / sizeof(values[0]),
+                    ExcMessage("truncated mesh from Gmsh"));
+        values.resize(n);
+        std::memcpy(values.data(),
+                    bytes.data() + position,
+                    n * sizeof(values[0]));
+        position += n * sizeof(values[0]);
+      };
+      get(flat.coordinates);
+      get(flat.cells);
+      get(flat.boundary);
+      return flat;
+    }
+
+
+
+    /// The vertices, cells and boundary faces of @p flat, as
+    /// Triangulation::create_triangulation() takes them: cells of negative
+    /// measure turned, as the Gmsh reader does.
+    template <int dim>
+    void
+    unflatten(const FlatMesh             &flat,
+              std::vector<Point<dim>>    &vertices,
+              std::vector<CellData<dim>> &cells,
+              SubCellData                &boundary)
+    {
+      vertices.resize(flat.coordinates.size() / dim);
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        for (unsigned int d = 0; d < dim; ++d)
+          vertices[v][d] = flat.coordinates[dim * v + d];
+      cells.assign(flat.cells.size() / (dim + 1), CellData<dim>(dim + 1));
+      for (unsigned int c = 0; c < cells.size(); ++c)
+        {
+          for (unsigned int v = 0; v <= dim; ++v)
+            cells[c].vertices[v] = flat.cells[(dim + 1) * c + v];
+          if constexpr (dim == 3)
+            {
+              Tensor<2, dim> edges;
+              for (unsigned int k = 1; k <= dim; ++k)
+                edges[k - 1] = vertices[cells[c].vertices[k]] -
+                               vertices[cells[c].vertices[0]];
+              if (determinant(edges) < 0)
+                std::swap(cells[c].vertices[1], cells[c].vertices[2]);
+            }
+        }
+      if constexpr (dim == 2)
+        GridTools::invert_cells_with_negative_measure(vertices, cells);
+      boundary = SubCellData();
+      for (unsigned int f = 0; (dim + 1) * f < flat.boundary.size(); ++f)
+        {
+          CellData<dim - 1> face(dim);
+          for (unsigned int v = 0; v < dim; ++v)
+            face.vertices[v] = flat.boundary[(dim + 1) * f + v];
+          face.boundary_id = flat.boundary[(dim + 1) * f + dim];
+          if constexpr (dim == 2)
+            boundary.boundary_lines.push_back(face);
+          else
+            boundary.boundary_quads.push_back(face);
+        }
+    }
+
+
+
+    /// Mesh the geometry Gmsh holds with the remeshing's options, the size
+    /// at a point given by @p size_at, and flatten the result.
+    template <int dim>
+    FlatMesh
+    mesh_gmsh_model(const std::function<double(const Point<dim> &)> &size_at)
+    {
+      FlatMesh flat;
+      // (after the file, which may set options of its own; the default
+      // of every option a file could set to make other cells than
+      // simplices)
+      gmsh::option::setNumber("General.NumThreads", 1);
+      gmsh::option::setNumber("Mesh.Algorithm", 6);   // Frontal-Delaunay
+      gmsh::option::setNumber("Mesh.Algorithm3D", 1); // Delaunay
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFactor", 1);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
+      gmsh::option::setNumber("Mesh.ElementOrder", 1);
+      gmsh::option::setNumber("Mesh.RecombineAll", 0);
+      gmsh::option::setNumber("Mesh.Recombine3DAll", 0);
+      gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 0);
+      gmsh::model::mesh::setSizeCallback(
+        [&](int, int, double x, double y, double z) {
+          Point<dim> p;
+          p[0] = x;
+          p[1] = y;
+          if constexpr (dim == 3)
+            p[2] = z;
+          else
+            (void)z;
+          return size_at(p);
+        });
+      gmsh::model::mesh::generate(dim);
+
+      std::vector<std::size_t> node_tags;
+      std::vector<double>      coordinates, parametric;
+      gmsh::model::mesh::getNodes(node_tags, coordinates, parametric);
+      std::map<std::size_t, unsigned int> vertex_of_tag;
+      std::vector<std::size_t>            element_tags, element_nodes;
+      // Gmsh's element types: 1 line, 2 triangle, 4 tetrahedron
+      const int cell_type = (dim == 2) ? 2 : 4, face_type = dim - 1;
+      gmsh::model::mesh::getElementsByType(cell_type,
+                                           element_tags,
+                                           element_nodes);
+      std::map<std::size_t, unsigned int> index_of_node;
+      for (unsigned int n = 0; n < node_tags.size(); ++n)
+        index_of_node[node_tags[n]] = n;
+      const auto vertex = [&](const std::size_t tag) {
+        const auto [entry, inserted] =
+          vertex_of_tag.emplace(tag, vertex_of_tag.size());
+        if (inserted)
+          for (unsigned int d = 0; d < dim; ++d)
+            flat.coordinates.push_back(
+              coordinates[3 * index_of_node.at(tag) + d]);
+        return entry->second;
+      };
+      for (const std::size_t tag : element_nodes)
+        flat.cells.push_back(vertex(tag));
+
+      gmsh::vectorpair groups;
+      gmsh::model::getPhysicalGroups(groups, dim - 1);
+      for (const auto &[group_dim, id] : groups)
+        {
+          std::vector<int> entities;
+          gmsh::model::getEntitiesForPhysicalGroup(group_dim, id, entities);
+          for (const int entity : entities)
+            {
+              // (Gmsh 4.8 leaves non-empty outputs as they are)
+              element_tags.clear();
+              element_nodes.clear();
+              gmsh::model::mesh::getElementsByType(face_type,
+                                                   element_tags,
+                                                   element_nodes,
+                                                   entity);
+              for (unsigned int e = 0; e < element_tags.size(); ++e)
+                {
+                  for (unsigned int v = 0; v < dim; ++v)
+                    flat.boundary.push_back(vertex(element_nodes[dim * e + v]));
+                  flat.boundary.push_back(id);
+                }
+            }
+        }
+      return flat;
+    }
+
+
+
+    /// Mesh the geometry with Gmsh (in a child process: a crash of Gmsh on
+    /// the file is reported, not suffered), the size at a point given by
+    /// @p size_at.
     template <int dim>
     FlatMesh
     mesh_with_gmsh(const std::string &geometry_file,
                    const std::function<double(const Point<dim> &)> &size_at)
     {
-      const GmshExitGuard guard("Mesh/Geometry file <" + geometry_file + ">");
-      // (not the user's Gmsh configuration files: the same mesh everywhere)
-      gmsh::initialize(0, nullptr, false);
+      const auto job = [&]() {
+        // (not the user's Gmsh configuration files: the same mesh everywhere)
+        gmsh::initialize(0, nullptr, false);
+        gmsh::option::setNumber("General.Terminal", 0);
+        gmsh::option::setNumber("General.Verbosity", 0);
+        if (geometry_file.empty())
+          {
+            gmsh::model::add("remeshed");
+            add_block_geometry(dim);
+          }
+        else
+          gmsh::open(geometry_file);
+        const std::string bytes = serialize(mesh_gmsh_model<dim>(size_at));
+        gmsh::finalize();
+        return bytes;
+      };
       FlatMesh flat;
       try
         {
-          gmsh::option::setNumber("General.Terminal", 0);
-          gmsh::option::setNumber("General.Verbosity", 0);
-          if (geometry_file.empty())
-            {
-              gmsh::model::add("remeshed");
-              add_block_geometry(dim);
-            }
-          else
-            gmsh::open(geometry_file);
-          // (after the file, which may set options of its own)
-          gmsh::option::setNumber("General.NumThreads", 1);
-          gmsh::option::setNumber("Mesh.Algorithm", 6);   // Frontal-Delaunay
-          gmsh::option::setNumber("Mesh.Algorithm3D", 1); // Delaunay
-          gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-          gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-          gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-          gmsh::option::setNumber("Mesh.MeshSizeFactor", 1);
-          gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
-          gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
-          gmsh::option::setNumber("Mesh.ElementOrder", 1);
-          gmsh::option::setNumber("Mesh.RecombineAll", 0);
-          gmsh::model::mesh::setSizeCallback(
-            [&](int, int, double x, double y, double z) {
-              Point<dim> p;
-              p[0] = x;
-              p[1] = y;
-              if constexpr (dim == 3)
-                p[2] = z;
-              else
-                (void)z;
-              return size_at(p);
-            });
-          gmsh::model::mesh::generate(dim);
-
-          std::vector<std::size_t> node_tags;
-          std::vector<double>      coordinates, parametric;
-          gmsh::model::mesh::getNodes(node_tags, coordinates, parametric);
-          std::map<std::size_t, unsigned int> vertex_of_tag;
-          std::vector<std::size_t>            element_tags, element_nodes;
-          // Gmsh's element types: 1 line, 2 triangle, 4 tetrahedron
-          const int cell_type = (dim == 2) ? 2 : 4, face_type = dim - 1;
-          gmsh::model::mesh::getElementsByType(cell_type,
-                                               element_tags,
-                                               element_nodes);
-          std::map<std::size_t, unsigned int> index_of_node;
-          for (unsigned int n = 0; n < node_tags.size(); ++n)
-            index_of_node[node_tags[n]] = n;
-          const auto vertex = [&](const std::size_t tag) {
-            const auto [entry, inserted] =
-              vertex_of_tag.emplace(tag, vertex_of_tag.size());
-            if (inserted)
-              for (unsigned int d = 0; d < dim; ++d)
-                flat.coordinates.push_back(
-                  coordinates[3 * index_of_node.at(tag) + d]);
-            return entry->second;
-          };
-          for (const std::size_t tag : element_nodes)
-            flat.cells.push_back(vertex(tag));
-
-          gmsh::vectorpair groups;
-          gmsh::model::getPhysicalGroups(groups, dim - 1);
-          for (const auto &[group_dim, id] : groups)
-            {
-              std::vector<int> entities;
-              gmsh::model::getEntitiesForPhysicalGroup(group_dim, id, entities);
-              for (const int entity : entities)
-                {
-                  // (Gmsh 4.8 leaves non-empty outputs as they are)
-                  element_tags.clear();
-                  element_nodes.clear();
-                  gmsh::model::mesh::getElementsByType(face_type,
-                                                       element_tags,
-                                                       element_nodes,
-                                                       entity);
-                  for (unsigned int e = 0; e < element_tags.size(); ++e)
-                    {
-                      for (unsigned int v = 0; v < dim; ++v)
-                        flat.boundary.push_back(
-                          vertex(element_nodes[dim * e + v]));
-                      flat.boundary.push_back(id);
-                    }
-                }
-            }
-        }
-      // (Gmsh 4.8 throws its last error message as a std::string)
-      catch (const std::string &message)
-        {
-          gmsh::finalize();
-          throw std::runtime_error(gmsh_failure(geometry_file, message));
+          flat = deserialize(run_in_gmsh_child(job,
+                                               "remeshing " +
+                                                 (geometry_file.empty() ?
+                                                    std::string("the block") :
+                                                    geometry_file) +
+                                                 " in " + std::to_string(dim) +
+                                                 "D"));
         }
       catch (const std::exception &exc)
         {
-          gmsh::finalize();
           throw std::runtime_error(gmsh_failure(geometry_file, exc.what()));
         }
-      gmsh::finalize();
       if (flat.cells.empty())
         throw std::runtime_error(
           "Mesh adaptation/Realisation = remeshing: Gmsh made no " +
@@ -272,18 +393,35 @@ namespace Signorini
         "Mesh adaptation/Realisation = remeshing needs the geometry of the "
         "domain: the generated block (Mesh/Source = block) has one; for a "
         "Gmsh mesh file give its .geo as Mesh/Geometry file");
-    if (input.source == MeshInput<dim>::Source::file)
-      {
-        const std::string path = input.path_of(input.geometry_file_name);
-        if (!std::ifstream(path))
-          throw InputError("Mesh/Geometry file: cannot open <" + path + ">");
-        // read it now, so that a bad geometry is an input error
-        const GmshExitGuard guard("Mesh/Geometry file <" + path + ">");
-        gmsh::initialize(0, nullptr, false);
-        std::string error;
-        try
-          {
+    if (input.source != MeshInput<dim>::Source::file)
+      return;
+    const std::string path = input.path_of(input.geometry_file_name);
+    if (!std::ifstream(path))
+      throw InputError("Mesh/Geometry file: cannot open <" + path + ">");
+    // a mesh would be "remeshed" into itself: the sizes ignored
+    if (path.size() < 4 || path.compare(path.size() - 4, 4, ".geo") != 0)
+      throw InputError("Mesh/Geometry file: <" + path +
+                       "> is not a Gmsh geometry (.geo) file: remeshing "
+                       "needs the geometry of the domain, not a mesh");
+    const GmshMesh<dim> &mesh = input.file_mesh(); // (collective)
+
+    // Rank 0 meshes the geometry as a remeshing would (in a child process:
+    // a geometry that crashes Gmsh is bad input, found now), with about the
+    // cells of the mesh, and compares the two domains.
+    const MPI_Comm communicator = MPI_COMM_WORLD;
+    std::string    error;
+    if (Utilities::MPI::this_mpi_process(communicator) == 0)
+      try
+        {
+          const DomainSummary<dim> mesh_summary(mesh.vertices,
+                                                mesh.cells,
+                                                mesh.boundary);
+          const double             mesh_size =
+            gmsh_size_of<dim>(mesh_summary.domain.measure / mesh.cells.size());
+          const auto job = [&]() -> std::string {
+            gmsh::initialize(0, nullptr, false);
             gmsh::option::setNumber("General.Terminal", 0);
+            gmsh::option::setNumber("General.Verbosity", 0);
             gmsh::open(path);
             gmsh::vectorpair domains, boundary_groups;
             gmsh::model::getEntities(domains, dim);
@@ -292,29 +430,74 @@ namespace Signorini
             for (const auto &[group_dim, tag] : boundary_groups)
               tags.insert(tag);
             if (domains.empty())
-              error = dim == 2 ? "it defines no surface to mesh" :
-                                 "it defines no volume to mesh";
+              return dim == 2 ? "Eit defines no surface to mesh" :
+                                "Eit defines no volume to mesh";
             for (const auto id : boundary_ids)
-              if (error.empty() && tags.count(id) == 0)
-                error = std::string(dim == 2 ? "no physical curve" :
-                                               "no physical surface") +
-                        " has the tag " + std::to_string(id) +
-                        ", a boundary id of the input (the remeshed mesh "
-                        "would lack it)";
-          }
-        catch (const std::string &message)
-          {
-            error = message.empty() ? "Gmsh cannot read it" : message;
-          }
-        catch (const std::exception &exc)
-          {
-            error = exc.what();
-          }
-        gmsh::finalize();
-        if (!error.empty())
-          throw InputError("Mesh/Geometry file: <" + path +
-                           ">: " + one_line_message(error));
-      }
+              if (tags.count(id) == 0)
+                return std::string(dim == 2 ? "Eno physical curve" :
+                                              "Eno physical surface") +
+                       " has the tag " + std::to_string(id) +
+                       ", a boundary id of the input (the remeshed mesh "
+                       "would lack it)";
+            // at most about 2e5 cells, whatever the size of the geometry
+            double x0, y0, z0, x1, y1, z1;
+            gmsh::model::getBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1);
+            const double box_measure =
+              (x1 - x0) * (y1 - y0) * (dim == 3 ? z1 - z0 : 1.);
+            const double size =
+              std::max(mesh_size, gmsh_size_of<dim>(box_measure / 2e5));
+            const std::string bytes = serialize(mesh_gmsh_model<dim>(
+              [size](const Point<dim> &) { return size; }));
+            gmsh::finalize();
+            return "M" + bytes;
+          };
+          std::string result;
+          try
+            {
+              result = run_in_gmsh_child(job,
+                                         "meshing " + path +
+                                           " to compare it with the mesh");
+            }
+          catch (const GmshEndedProgram &exc)
+            {
+              throw InputError("Mesh/Geometry file <" + path +
+                               ">: " + exc.what());
+            }
+          if (result.empty() || result[0] == 'E')
+            throw InputError("Mesh/Geometry file: <" + path +
+                             ">: " + (result.empty() ? "" : result.substr(1)));
+          std::vector<Point<dim>>    vertices;
+          std::vector<CellData<dim>> cells;
+          SubCellData                boundary;
+          unflatten(deserialize(result.substr(1)), vertices, cells, boundary);
+          const DomainSummary<dim> geometry(vertices, cells, boundary);
+          std::string              difference;
+          if (cells.empty())
+            difference = std::string("Gmsh makes no ") +
+                         (dim == 2 ? "triangles" : "tetrahedra") + " from it";
+          else if (geometry.n_bodies > 1)
+            difference = "it holds " + std::to_string(geometry.n_bodies) +
+                         " separate bodies (one body is modelled)";
+          else
+            difference = geometry.difference_from(mesh_summary, 2e-2);
+          if (!difference.empty())
+            throw InputError("Mesh/Geometry file: <" + path +
+                             "> is not the domain of the mesh <" +
+                             input.path_of(input.file_name) +
+                             ">: " + difference);
+        }
+      catch (const InputError &exc)
+        {
+          error = exc.what();
+        }
+      catch (const std::exception &exc)
+        {
+          error = "Mesh/Geometry file: <" + path +
+                  ">: " + one_line_message(exc.what());
+        }
+    error = Utilities::MPI::broadcast(communicator, error);
+    if (!error.empty())
+      throw InputError(error);
   }
 
 
@@ -369,41 +552,10 @@ namespace Signorini
     flat.cells    = Utilities::MPI::broadcast(communicator, flat.cells);
     flat.boundary = Utilities::MPI::broadcast(communicator, flat.boundary);
 
-    std::vector<Point<dim>> vertices(flat.coordinates.size() / dim);
-    for (unsigned int v = 0; v < vertices.size(); ++v)
-      for (unsigned int d = 0; d < dim; ++d)
-        vertices[v][d] = flat.coordinates[dim * v + d];
-    std::vector<CellData<dim>> cells(flat.cells.size() / (dim + 1),
-                                     CellData<dim>(dim + 1));
-    for (unsigned int c = 0; c < cells.size(); ++c)
-      {
-        for (unsigned int v = 0; v <= dim; ++v)
-          cells[c].vertices[v] = flat.cells[(dim + 1) * c + v];
-        // tetrahedra of negative volume turned, as the Gmsh reader does
-        if constexpr (dim == 3)
-          {
-            Tensor<2, dim> edges;
-            for (unsigned int k = 1; k <= dim; ++k)
-              edges[k - 1] =
-                vertices[cells[c].vertices[k]] - vertices[cells[c].vertices[0]];
-            if (determinant(edges) < 0)
-              std::swap(cells[c].vertices[1], cells[c].vertices[2]);
-          }
-      }
-    if constexpr (dim == 2)
-      GridTools::invert_cells_with_negative_measure(vertices, cells);
-    SubCellData boundary;
-    for (unsigned int f = 0; (dim + 1) * f < flat.boundary.size(); ++f)
-      {
-        CellData<dim - 1> face(dim);
-        for (unsigned int v = 0; v < dim; ++v)
-          face.vertices[v] = flat.boundary[(dim + 1) * f + v];
-        face.boundary_id = flat.boundary[(dim + 1) * f + dim];
-        if constexpr (dim == 2)
-          boundary.boundary_lines.push_back(face);
-        else
-          boundary.boundary_quads.push_back(face);
-      }
+    std::vector<Point<dim>>    vertices;
+    std::vector<CellData<dim>> cells;
+    SubCellData                boundary;
+    unflatten(flat, vertices, cells, boundary);
     mesh.clear();
     mesh.create_triangulation(vertices, cells, boundary);
   }

@@ -46,9 +46,14 @@ namespace Signorini
   class GmshRemesher
   {
   public:
-    /// Throws InputError if @p input has no geometry to remesh, or if a
-    /// .geo lacks a surface (2D) or volume (3D), or a physical curve or
-    /// surface for one of the @p boundary_ids in use.
+    /// Throws InputError if @p input has no geometry to remesh, if
+    /// Mesh/Geometry file is not a .geo, lacks a surface (2D) or volume
+    /// (3D) or a physical curve or surface for one of the @p boundary_ids
+    /// in use, makes Gmsh fail, or is not the domain of the mesh: meshed
+    /// with about the mesh's number of cells, it must be one body with the
+    /// mesh's bounding box, measure and boundary ids, each with the mesh's
+    /// measure and bounding box (to 2 %; DomainSummary), or the remeshing
+    /// would compute another body. Collective: rank 0 checks.
     void
     check_geometry(const MeshInput<dim>               &input,
                    const std::set<types::boundary_id> &boundary_ids) const;

@@ -1,0 +1,41 @@
+#ifndef signorini_gmsh_child_process_h
+#define signorini_gmsh_child_process_h
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace Signorini
+{
+  /**
+   * Gmsh runs inside our process and a user's geometry can make it abort
+   * (an exception thrown where it cannot be caught), crash (a segfault on
+   * some option combinations) or call exit() (the Exit command). So every
+   * call of Gmsh on a user's file runs in a forked child: run_in_gmsh_child()
+   * returns what @p job returns in the child, passed back through a pipe,
+   * and turns any way the child can end into an exception of the parent:
+   * GmshEndedProgram for an exit(), std::runtime_error for everything else
+   * ("Gmsh failed: <Gmsh's message>", "Gmsh failed: it crashed (signal
+   * 11, SIGSEGV)").
+   *
+   * The child does not touch MPI (Open MPI tolerates a fork after MPI_Init
+   * for such a child), writes nothing to the terminal and ends with _exit().
+   * Under MPI, call it on one rank and broadcast the result.
+   *
+   * While the child works, the parent prints "   Gmsh: <progress> ...
+   * (N s)" every 5 seconds to stdout (nothing if @p progress is empty), so
+   * that a long meshing is not silent.
+   */
+  std::string
+  run_in_gmsh_child(const std::function<std::string()> &job,
+                    const std::string                  &progress);
+
+  /// The child called exit(): a .geo file's Exit command.
+  class GmshEndedProgram : public std::runtime_error
+  {
+  public:
+    GmshEndedProgram();
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,217 @@
+#include <signorini/gmsh_child_process.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fcntl.h>
+#include <iostream>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace Signorini
+{
+  namespace
+  {
+    /// The first byte the child sends: how the job ended.
+    constexpr char job_done = 'D', job_failed = 'F', program_ended = 'X';
+
+    /// The child's end of the pipe (-1 in the parent).
+    int report_fd = -1;
+
+    /// Send @p status and @p text to the parent and end the child.
+    [[noreturn]] void
+    report_and_exit(const char status, const std::string &text)
+    {
+      std::string message = status + text;
+      const char *data    = message.data();
+      std::size_t left    = message.size();
+      while (left > 0)
+        {
+          const ssize_t n = ::write(report_fd, data, left);
+          if (n < 0 && errno == EINTR)
+            continue;
+          if (n <= 0)
+            break;
+          data += n;
+          left -= n;
+        }
+      ::close(report_fd);
+      // not exit(): no atexit handler of the parent's (MPI) in the child
+      ::_exit(0);
+    }
+
+    /// What an exception escaping Gmsh says.
+    std::string
+    message_of(const std::exception_ptr &exception)
+    {
+      try
+        {
+          std::rethrow_exception(exception);
+        }
+      catch (const std::string &message)
+        {
+          return message.empty() ? "Gmsh failed" : "Gmsh failed: " + message;
+        }
+      catch (const char *message)
+        {
+          return "Gmsh failed: " + std::string(message);
+        }
+      catch (const std::exception &exc)
+        {
+          return "Gmsh failed: " + std::string(exc.what());
+        }
+      catch (...)
+        {
+          return "Gmsh failed (an unknown exception)";
+        }
+    }
+
+    /// An exception thrown where it cannot be caught (std::terminate()).
+    [[noreturn]] void
+    report_termination()
+    {
+      const std::exception_ptr exception = std::current_exception();
+      report_and_exit(job_failed,
+                      exception ? message_of(exception) :
+                                  "Gmsh failed: it called std::terminate()");
+    }
+
+    /// exit() in the child: Gmsh's Exit command.
+    void
+    report_exit()
+    {
+      if (report_fd >= 0)
+        report_and_exit(program_ended, "");
+    }
+
+    /// The child's side: run @p job and report.
+    [[noreturn]] void
+    run_child(const std::function<std::string()> &job)
+    {
+      // plain deaths the parent reports, not the MPI library's handlers
+      for (const int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT})
+        std::signal(signal, SIG_DFL);
+      // Gmsh's own printing, and the runtime's on an abort, go nowhere
+      const int null_fd = ::open("/dev/null", O_WRONLY);
+      if (null_fd >= 0)
+        {
+          ::dup2(null_fd, STDOUT_FILENO);
+          ::dup2(null_fd, STDERR_FILENO);
+          ::close(null_fd);
+        }
+      std::set_terminate(report_termination);
+      std::atexit(report_exit);
+      std::string result;
+      try
+        {
+          result = job();
+        }
+      catch (...)
+        {
+          report_and_exit(job_failed, message_of(std::current_exception()));
+        }
+      report_and_exit(job_done, result);
+    }
+  } // namespace
+
+
+
+  GmshEndedProgram::GmshEndedProgram()
+    : std::runtime_error(
+        "Gmsh ended the program (an Exit command in the file?)")
+  {}
+
+
+
+  std::string
+  run_in_gmsh_child(const std::function<std::string()> &job,
+                    const std::string                  &progress)
+  {
+    int fds[2];
+    if (::pipe(fds) != 0)
+      throw std::runtime_error("cannot start Gmsh: pipe(): " +
+                               std::string(std::strerror(errno)));
+    // (buffered output would be written twice)
+    std::cout.flush();
+    std::cerr.flush();
+    const pid_t pid = ::fork();
+    if (pid < 0)
+      {
+        const int error = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        throw std::runtime_error("cannot start Gmsh: fork(): " +
+                                 std::string(std::strerror(error)));
+      }
+    if (pid == 0)
+      {
+        ::close(fds[0]);
+        report_fd = fds[1];
+        run_child(job);
+      }
+
+    ::close(fds[1]);
+    using Clock                           = std::chrono::steady_clock;
+    const Clock::time_point start         = Clock::now();
+    const auto              interval      = std::chrono::seconds(5);
+    Clock::time_point       next_progress = start + interval;
+    std::string             data;
+    char                    buffer[1 << 16];
+    while (true)
+      {
+        pollfd    request = {fds[0], POLLIN, 0};
+        const int ready   = ::poll(&request, 1, 1000);
+        if (ready > 0)
+          {
+            const ssize_t n = ::read(fds[0], buffer, sizeof(buffer));
+            if (n > 0)
+              data.append(buffer, n);
+            else if (n == 0 || (errno != EINTR && errno != EAGAIN))
+              break;
+          }
+        else if (ready < 0 && errno != EINTR)
+          break;
+        if (!progress.empty() && Clock::now() >= next_progress)
+          {
+            const auto seconds =
+              std::chrono::duration_cast<std::chrono::seconds>(Clock::now() -
+                                                               start)
+                .count();
+            std::cout << "   Gmsh: " << progress << " ... (" << seconds << " s)"
+                      << std::endl;
+            next_progress += interval;
+          }
+      }
+    ::close(fds[0]);
+    if (!progress.empty() && next_progress > start + interval)
+      std::cout << "   Gmsh: " << progress << ": done ("
+                << std::chrono::duration_cast<std::chrono::seconds>(
+                     Clock::now() - start)
+                     .count()
+                << " s)" << std::endl;
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
+      ;
+
+    if (WIFSIGNALED(status))
+      {
+        const int   signal = WTERMSIG(status);
+        const char *name   = ::sigabbrev_np(signal);
+        throw std::runtime_error(
+          "Gmsh failed: it crashed (signal " + std::to_string(signal) +
+          (name ? ", SIG" + std::string(name) : "") + ")");
+      }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || data.empty())
+      throw std::runtime_error("Gmsh failed: its process ended without a "
+                               "result");
+    if (data[0] == program_ended)
+      throw GmshEndedProgram();
+    if (data[0] == job_failed)
+      throw std::runtime_error(data.substr(1));
+    return data.substr(1);
+  }
+} // namespace Signorini
