@@ -1,7 +1,7 @@
 #include <signorini/gmsh_child_process.h>
+#include <signorini/progress.h>
 
 #include <cerrno>
-#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -155,12 +155,10 @@ namespace Signorini
       }
 
     ::close(fds[1]);
-    using Clock                           = std::chrono::steady_clock;
-    const Clock::time_point start         = Clock::now();
-    const auto              interval      = std::chrono::seconds(5);
-    Clock::time_point       next_progress = start + interval;
-    std::string             data;
-    char                    buffer[1 << 16];
+    // (the caller is the one rank that meshes)
+    Progress    progress_lines("Gmsh", MPI_COMM_SELF);
+    std::string data;
+    char        buffer[1 << 16];
     while (true)
       {
         pollfd    request = {fds[0], POLLIN, 0};
@@ -175,24 +173,10 @@ namespace Signorini
           }
         else if (ready < 0 && errno != EINTR)
           break;
-        if (!progress.empty() && Clock::now() >= next_progress)
-          {
-            const auto seconds =
-              std::chrono::duration_cast<std::chrono::seconds>(Clock::now() -
-                                                               start)
-                .count();
-            std::cout << "   Gmsh: " << progress << " ... (" << seconds << " s)"
-                      << std::endl;
-            next_progress += interval;
-          }
+        if (!progress.empty())
+          progress_lines.report([&progress]() { return progress; });
       }
     ::close(fds[0]);
-    if (!progress.empty() && next_progress > start + interval)
-      std::cout << "   Gmsh: " << progress << ": done ("
-                << std::chrono::duration_cast<std::chrono::seconds>(
-                     Clock::now() - start)
-                     .count()
-                << " s)" << std::endl;
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
       ;

@@ -22,9 +22,9 @@ namespace Signorini
    * for such a child), writes nothing to the terminal and ends with _exit().
    * Under MPI, call it on one rank and broadcast the result.
    *
-   * While the child works, the parent prints "   Gmsh: <progress> ...
-   * (N s)" every 5 seconds to stdout (nothing if @p progress is empty), so
-   * that a long meshing is not silent.
+   * While the child works, the parent prints "   Gmsh: <progress> after
+   * N s" as a Progress line (nothing if @p progress is empty), so that a
+   * long meshing is not silent.
    */
   std::string
   run_in_gmsh_child(const std::function<std::string()> &job,
