@@ -199,17 +199,13 @@ namespace Signorini
               if (part.ids.count(id) != 0)
                 largest.displacement =
                   std::max(largest.displacement,
-                           Signorini::check_finite(*part.displacement,
-                                                   points,
-                                                   part.name,
-                                                   part.mask));
+                           Signorini::check_finite(
+                             *part.displacement, points, part.name, part.mask));
             for (const auto &part : tractions)
               if (part.ids.count(id) != 0)
-                largest.traction =
-                  std::max(largest.traction,
-                           Signorini::check_finite(*part.traction,
-                                                   points,
-                                                   part.name));
+                largest.traction = std::max(
+                  largest.traction,
+                  Signorini::check_finite(*part.traction, points, part.name));
           }
 
     // the vertices once, then the quadrature points of each cell
@@ -217,8 +213,10 @@ namespace Signorini
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       if (triangulation.get_used_vertices()[v])
         points.push_back(triangulation.get_vertices()[v]);
-    largest.body_force = Signorini::check_finite(
-      *body_force, points, "Boundary conditions/Body force");
+    largest.body_force =
+      Signorini::check_finite(*body_force,
+                              points,
+                              "Boundary conditions/Body force");
     if (exact_solution != nullptr)
       Signorini::check_finite(*exact_solution, points, "Exact solution");
     for (const auto &cell : triangulation.active_cell_iterators())

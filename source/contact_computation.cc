@@ -142,7 +142,7 @@ namespace Signorini
   template <int dim>
   void
   ContactComputation<dim>::check_data_scale(
-    const Triangulation<dim>                                    &mesh,
+    const Triangulation<dim>                               &mesh,
     const typename BoundaryConditions<dim>::DataMagnitudes &data) const
   {
     // the stress the data impose (tractions, body force times the diameter
@@ -155,11 +155,10 @@ namespace Signorini
     // (in decimal exponents: the stress or the energy themselves may not be
     // doubles; log10(0) = -inf drops a datum that is zero)
     const double log_diameter = std::log10(diameter);
-    const double log_stress =
-      std::max({std::log10(data.traction),
-                std::log10(data.body_force) + log_diameter,
-                std::log10(young) + std::log10(data.displacement) -
-                  log_diameter});
+    const double log_stress   = std::max(
+      {std::log10(data.traction),
+         std::log10(data.body_force) + log_diameter,
+         std::log10(young) + std::log10(data.displacement) - log_diameter});
     if (log_stress == -std::numeric_limits<double>::infinity())
       return; // no load: the solution is zero, or a rigid motion
     const double exponent =
@@ -192,10 +191,8 @@ namespace Signorini
     TimerOutput::Scope t(timer, "setup");
     nested_start_input.reset();
     check_boundary_ids(mesh);
-    check_data_scale(mesh,
-                     boundary_data.check_finite(mapping_fe,
-                                                mesh,
-                                                exact_solution));
+    check_data_scale(
+      mesh, boundary_data.check_finite(mapping_fe, mesh, exact_solution));
     dofs.reinit(mesh);
     dofs.distribute_dofs(fe);
     locally_owned_dofs = dofs.locally_owned_dofs();

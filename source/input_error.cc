@@ -33,11 +33,11 @@ namespace Signorini
     check_line_endings(const std::string &text, const std::string &where)
     {
       for (std::size_t i = text.find('\r'); i != std::string::npos;
-           i          = text.find('\r', i + 1))
+           i             = text.find('\r', i + 1))
         if (i + 1 == text.size() || text[i + 1] != '\n')
           throw InputError(where +
                            ": has lines ended by a lone carriage return (CR, "
-                           "classic Mac OS line endings); convert them to LF");
+                                       "classic Mac OS line endings); convert them to LF");
     }
 
 
@@ -633,9 +633,9 @@ namespace Signorini
       for (std::string name; std::getline(in, name, ',');)
         names.push_back(trimmed(name));
       const std::string coordinates = dim == 2 ? "x, y" : "x, y, z";
-      const std::string prefix      = description + ": Variable names = " +
-                                 trimmed(list) + ": in " +
-                                 std::to_string(dim) + "D ";
+      const std::string prefix      = description +
+                                 ": Variable names = " + trimmed(list) +
+                                 ": in " + std::to_string(dim) + "D ";
       if (names.size() != dim && names.size() != dim + 1)
         throw InputError(prefix + "give the " + std::to_string(dim) +
                          " coordinates and optionally the time, e.g. " +
@@ -651,8 +651,8 @@ namespace Signorini
              names[i] != (i < dim ? std::string(1, axes[i]) : "")) ||
             (names[i] == "t" && i != dim);
           if (misplaced)
-            throw InputError(prefix + "<" + names[i] + "> would be " +
-                             meaning + "; use " + coordinates + ", t");
+            throw InputError(prefix + "<" + names[i] + "> would be " + meaning +
+                             "; use " + coordinates + ", t");
         }
     }
   } // namespace

@@ -2,8 +2,8 @@
 
 #include <signorini/contact/solution_checks.h>
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -76,7 +76,7 @@ namespace Signorini
     // the forces K_ii |u_D,i| the imposed displacements exert on their own
     // (their sum likewise for the resultant)
     double applied_scale = 0., imposed_scale = 0., imposed_sum = 0.;
-    double load_sum = 0.; // sum of |forces|
+    double load_sum                      = 0.; // sum of |forces|
     const AffineConstraints<double> &all = problem.constraints();
     for (const auto i : u.locally_owned_elements())
       if (!all.is_constrained(i))
@@ -136,8 +136,8 @@ namespace Signorini
         lower[d] = Utilities::MPI::min(lower[d], comm);
         upper[d] = Utilities::MPI::max(upper[d], comm);
       }
-    checks.residual /=
-      std::max({applied_scale, imposed_scale, std::numeric_limits<double>::min()});
+    checks.residual /= std::max(
+      {applied_scale, imposed_scale, std::numeric_limits<double>::min()});
     const double diameter = (upper - lower).norm();
     // the largest term, NaN if any is NaN
     double     largest = 0.;

@@ -202,15 +202,14 @@ namespace Signorini
     h_min  = Utilities::MPI::min(h_min, communicator);
     volume = Utilities::MPI::sum(volume, communicator);
     const double round_off_strain =
-      1e3 * std::numeric_limits<double>::epsilon() * u_h.linfty_norm() /
-      h_min;
+      1e3 * std::numeric_limits<double>::epsilon() * u_h.linfty_norm() / h_min;
     result.stress_free =
       !(result.denominator > volume * std::abs(material.young_modulus) *
                                round_off_strain * round_off_strain);
     if (result.stress_free)
       {
         result.e_squared = result.denominator = result.contact_term = 0.;
-        result.contact_local = 0.;
+        result.contact_local                                        = 0.;
         return result;
       }
     result.eps = std::sqrt(result.e_squared / result.denominator);

@@ -715,9 +715,9 @@ namespace Signorini
     // rounded Hessian changes the minimiser by 1e-7 relative but not the
     // admissibility of any iterate, which only the patch corrections decide.
     // Each cell's Hessian is stored divided by its largest diagonal entry
-    // (kept in double): the entries scale as |E| / E and h^d, and
-    // unscaled they left the single precision range for E = 1e40 or
-    // 1e-50, where the enhancement silently did nothing
+    // (kept in double): the entries scale as h^2 / E, and unscaled they
+    // left the single precision range for E = 1e40 or 1e-50, where the
+    // enhancement silently did nothing
     AlignedVector<float>  hessians(packed_hessian_size * std::size_t(n_cells));
     AlignedVector<double> hessian_scales(n_cells);
     AlignedVector<double> cell_values(12 * std::size_t(n_cells));
@@ -747,10 +747,10 @@ namespace Signorini
       },
       64);
     // entry (a, b) of the Hessian of a cell
-    const auto hessian_entry = [&hessians, &hessian_scales](
-                                 const unsigned int cell,
-                                 const unsigned int a,
-                                 const unsigned int b) {
+    const auto hessian_entry = [&hessians,
+                                &hessian_scales](const unsigned int cell,
+                                                 const unsigned int a,
+                                                 const unsigned int b) {
       return hessian_scales[cell] *
              double(hessians[packed_hessian_size * std::size_t(cell) +
                              packed_position(a, b)]);
@@ -854,9 +854,9 @@ namespace Signorini
                           FullMatrix<double>(IdentityMatrix(k)), reduced);
                         f.mTmult(inverse, f);
                       }
-                    // (stored divided by its largest diagonal entry, in
-                    // double: single precision holds its values' range only
-                    // relative to a scale, which goes as E / |E|)
+                    // (stored divided by its largest diagonal entry, kept
+                    // in double: the entries scale as E / h^2, beyond
+                    // single precision for extreme units)
                     double scale = 0.;
                     for (unsigned int i = 0; i < k; ++i)
                       scale = std::max(scale, std::abs(inverse(i, i)));
@@ -1239,7 +1239,7 @@ namespace Signorini
         correction.add_correction(r, z);
     };
 
-    direction               = preconditioned;
+    direction                 = preconditioned;
     double   residual_product = residual * preconditioned;
     Result   result;
     Progress progress("estimate, enhanced densities", communicator);

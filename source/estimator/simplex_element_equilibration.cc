@@ -1555,7 +1555,7 @@ namespace Signorini
       for (double &r : residual)
         r = -r;
       precondition(residual, z);
-      direction       = z;
+      direction         = z;
       double   rz       = dot(residual, z);
       double   decrease = 0.;
       Progress progress("estimate, enhanced densities", context.communicator);
@@ -1699,7 +1699,7 @@ namespace Signorini
     AssertThrow(!input.dof_handler.get_triangulation().has_hanging_nodes(),
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
-    Progress progress("estimate",
+    Progress     progress("estimate",
                       input.dof_handler.get_triangulation().get_communicator());
     Context<dim> context(input, admissible_displacement, settings);
     error_squared.reinit(context.n_cells);
