@@ -1326,6 +1326,26 @@ subsection Boundary conditions
   end
 end"
 done
+# in 3D (the estimate on tetrahedra): the extruded block with E = 1e40
+# and its loads in the same units gives the eps of E = 1
+eps_3d() { # SED_SCRIPT: eps of tests/estimator_3d_equilibration.prm so changed
+  sed -e "$1" -e 's/set Extra refinements = 1/set Extra refinements = 0/' \
+    "$src/tests/estimator_3d_equilibration.prm" > "$work/units3d.prm"
+  printf 'set Output directory = %s/out\nsubsection Output\n  set Write vtu = false\nend\n' "$work" >> "$work/units3d.prm"
+  rm -rf "$work/out"
+  "$exe" "$work/units3d.prm" > /dev/null 2>&1 &&
+    awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "eps") c = i }
+             NR == 2 { print $c }' "$work/out/statistics.csv"
+}
+count=$((count + 1))
+eps_e1=$(eps_3d 's/p=0.1/p=0.1/')
+eps_e40=$(eps_3d 's/p=0.1/p=1e39/; s/Young modulus = 1/Young modulus = 1e40/')
+if [ -n "$eps_e1" ] && [ "$eps_e1" = "$eps_e40" ]; then
+  echo "ok   3D: units of stress, E = 1e40: eps = $eps_e40 (E = 1: $eps_e1)"
+else
+  echo "FAIL 3D: units of stress: eps = <$eps_e40> at E = 1e40, <$eps_e1> at E = 1"
+  failures=$((failures + 1))
+fi
 
 # Tolerances that round-off cannot meet
 case_prm "Frank-Wolfe/Tolerance = 0" "Contact/Frank-Wolfe/Tolerance: The entry value 0" \
