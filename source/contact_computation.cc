@@ -145,15 +145,15 @@ namespace Signorini
     const Triangulation<dim>                               &mesh,
     const typename BoundaryConditions<dim>::DataMagnitudes &data) const
   {
-    // the stress the data impose (tractions, body force times the diameter
-    // L, E times the prescribed displacements over L) and the strain energy
-    // S^2 / E L^d it stores: a problem whose energy is beyond the range of
-    // doubles cannot be solved or checked (its energies, work and residual
-    // scales underflow or overflow) although each value may look harmless
+    // the stress S the data impose (tractions, body force times the
+    // diameter L, E times the prescribed displacements over L) and the
+    // displacement S L / E it causes: the solve and its checks square
+    // forces and displacements (norms, energies), so beyond 1e+-140 they
+    // underflow or overflow although each datum may look harmless
     const double diameter = GridTools::diameter(mesh);
     const double young    = std::abs(material_law.young_modulus);
-    // (in decimal exponents: the stress or the energy themselves may not be
-    // doubles; log10(0) = -inf drops a datum that is zero)
+    // (in decimal exponents: S itself may not be a double; log10(0) = -inf
+    // drops a datum that is zero)
     const double log_diameter = std::log10(diameter);
     const double log_stress   = std::max(
       {std::log10(data.traction),
@@ -161,22 +161,24 @@ namespace Signorini
          std::log10(young) + std::log10(data.displacement) - log_diameter});
     if (log_stress == -std::numeric_limits<double>::infinity())
       return; // no load: the solution is zero, or a rigid motion
-    const double exponent =
-      2. * log_stress - std::log10(young) + dim * log_diameter;
-    if (!(exponent > -200. && exponent < 200.))
+    const double log_displacement =
+      log_stress + log_diameter - std::log10(young);
+    const double limit = 140.;
+    if (!(std::abs(log_stress) < limit && std::abs(log_displacement) < limit))
       {
+        const bool         stress = !(std::abs(log_stress) < limit);
         std::ostringstream message;
         message << std::setprecision(2)
                 << "Boundary conditions and Material/Young modulus: the data "
-                   "give a strain energy of order 1e"
-                << std::lround(exponent) << " (stress 1e"
-                << std::lround(log_stress)
-                << " from the loads and prescribed displacements, Young "
+                   "give "
+                << (stress ? "stresses" : "displacements") << " of order 1e"
+                << std::lround(stress ? log_stress : log_displacement)
+                << " (from the loads and prescribed displacements, Young "
                    "modulus "
                 << young << ", diameter " << diameter
-                << "), beyond what double precision resolves: choose units "
-                   "(of stress, and of length) that bring it within 1e-200 "
-                   "to 1e200";
+                << "), beyond what double precision resolves in their "
+                   "squares: choose units (of stress, and of length) that "
+                   "bring both within 1e-140 to 1e140";
         throw InputError(message.str());
       }
   }

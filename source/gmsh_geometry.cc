@@ -192,9 +192,13 @@ namespace Signorini
       double x0, y0, z0, x1, y1, z1;
       gmsh::model::getBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1);
       const double diameter = std::hypot(x1 - x0, y1 - y0, z1 - z0);
-      double       size_min = 0, size_max = 0;
+      double       size_min = 0, size_max = 0, size_factor = 1;
       gmsh::option::getNumber("Mesh.MeshSizeMin", size_min);
       gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
+      // (the file's Mesh.MeshSizeFactor scales every size Gmsh computes,
+      // the coarse mesh of the measure's too: applied to the result)
+      gmsh::option::getNumber("Mesh.MeshSizeFactor", size_factor);
+      gmsh::option::setNumber("Mesh.MeshSizeFactor", 1.);
       gmsh::option::setNumber("Mesh.MeshSizeMin", diameter / 20.);
       gmsh::option::setNumber("Mesh.MeshSizeMax", diameter / 20.);
       gmsh::model::mesh::generate(dim);
@@ -211,7 +215,7 @@ namespace Signorini
       gmsh::model::mesh::generate(1);
       std::ostringstream text;
       text << std::setprecision(17) << "S" << measure << ' '
-           << longest_curve_element();
+           << size_factor * longest_curve_element();
       gmsh::finalize();
       return text.str();
     }

@@ -491,9 +491,21 @@ namespace Signorini
       solution[line->index] = line->inhomogeneity;
     solution.compress(VectorOperation::insert);
 
+    // the tolerance relative to the forces of the free rows: the
+    // constrained rows hold displacements (and start with a zero
+    // residual), which would make it loose for a small E or tight for a
+    // large one
+    double force_norm = 0.;
+    {
+      LA::Vector forces(rhs);
+      for (const auto *line : lines.own)
+        forces[line->index] = 0.;
+      forces.compress(VectorOperation::insert);
+      force_norm = forces.l2_norm();
+    }
     const ConstrainedOperator op(*stiffness_matrix, lines, load);
     const double  tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
-    SolverControl control(max_iterations, tol * rhs.l2_norm(), false, false);
+    SolverControl control(max_iterations, tol * force_norm, false, false);
     SolverCG<LA::Vector> cg(control);
     try
       {

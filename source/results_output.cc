@@ -324,6 +324,12 @@ namespace Signorini
                 ": no stress (to round-off), the solution is exact" :
                 "")
           << std::endl;
+    if (estimate.polluted_by_round_off && !estimate.stress_free)
+      pcout << "Warning: the strains are within 1e5 round-offs of the "
+               "displacement (a rigid motion much larger than the "
+               "deformation): eps is polluted by round-off; take the rigid "
+               "motion out of the data"
+            << std::endl;
     statistics_table.add_value("e", std::sqrt(estimate.e_squared));
     statistics_table.add_value("eps", estimate.eps);
     statistics_table.add_value("eps_contact", estimate.eps_contact);

@@ -1023,19 +1023,19 @@ end"
 check "--validate: roller, no load (the case above)" "no equilibrium" \
   --validate "$work/case.prm"
 # finite data whose products overflow in the solve are refused as input
-case_prm "traction too large to compute with" "strain energy of order 1e320 " \
+case_prm "traction too large to compute with" "stresses of order 1e160 " \
   "subsection Boundary conditions
   subsection Traction 1
     set Function constants = p=1e160
   end
 end"
-case_prm "body force too large to compute with" "strain energy of order 1e617 " \
+case_prm "body force too large to compute with" "stresses of order 1e308 " \
   "subsection Boundary conditions
   subsection Body force
     set Function expression = 0; -1e308*x
   end
 end"
-case_prm "prescribed displacement too large" "strain energy of order 1e400 " \
+case_prm "prescribed displacement too large" "stresses of order 1e200 " \
   "subsection Boundary conditions
   subsection Dirichlet 1
     set Function expression = 1e200; 0
@@ -1264,18 +1264,37 @@ subsection Error estimator
   set Enable = true
 end"
 zero_stress "3D: rigid translation imposed, no load" "$work/zero3d.prm"
+# a deformation at the level of round-off of a large rigid motion: computed,
+# with a warning that eps is polluted
+warns "translation of 1 with loads of 1e-12" "the strains are within 1e5 round-offs" \
+  "subsection Boundary conditions
+  subsection Dirichlet 1
+    set Function expression = 1; 1
+  end
+  subsection Traction 1
+    set Function constants = p=1e-12
+  end
+  subsection Traction 2
+    set Function constants = p=1e-12
+  end
+end
+subsection Contact
+  subsection Gap
+    set Function expression = 10
+  end
+end"
 
-# Data whose strain energy double precision cannot resolve are refused by
-# name, before the first solve
-case_prm "Young modulus 1e300" "Material/Young modulus: the data give a strain energy of order 1e-302" \
+# Data whose stresses or displacements double precision cannot square are
+# refused by name, before the first solve
+case_prm "Young modulus 1e300" "Material/Young modulus: the data give displacements of order 1e-301 " \
   "subsection Material
   set Young modulus = 1e300
 end"
-case_prm "Young modulus 1e-300" "strain energy of order 1e298" \
+case_prm "Young modulus 1e-300" "displacements of order 1e299 " \
   "subsection Material
   set Young modulus = 1e-300
 end"
-case_prm "loads of 1e-300" "strain energy of order 1e-600" \
+case_prm "loads of 1e-300" "stresses of order 1e-300 " \
   "subsection Boundary conditions
   subsection Traction 1
     set Function constants = p=1e-300
@@ -1284,7 +1303,31 @@ case_prm "loads of 1e-300" "strain energy of order 1e-600" \
     set Function constants = p=1e-300
   end
 end"
-command -v mpirun > /dev/null && check_mpi 1 "MPI: loads of 1e-300 (3 ranks)" "strain energy of order 1e-600" 3 "$work/case.prm"
+command -v mpirun > /dev/null && check_mpi 1 "MPI: loads of 1e-300 (3 ranks)" "stresses of order 1e-300 " 3 "$work/case.prm"
+case_prm "loads of 1e-160 with E = 1e-159" "stresses of order 1e-160 " \
+  "subsection Material
+  set Young modulus = 1e-159
+end
+subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=1e-160
+  end
+  subsection Traction 2
+    set Function constants = p=1e-160
+  end
+end"
+case_prm "loads of 1e150 with E = 1e151" "stresses of order 1e150 " \
+  "subsection Material
+  set Young modulus = 1e151
+end
+subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=1e150
+  end
+  subsection Traction 2
+    set Function constants = p=1e150
+  end
+end"
 
 # Values beyond single precision are not written as inf in the VTU file
 case_prm "loads of 1e39: the VTU cannot hold the displacement" \
@@ -1313,7 +1356,7 @@ close_eps() {
     failures=$((failures + 1))
   fi
 }
-for E in -50 -20 35 40 80; do
+for E in -130 -50 -20 35 40 80 130; do
   close_eps "units of stress: E = 1e$E" "subsection Material
   set Young modulus = 1e$E
 end
@@ -1344,6 +1387,34 @@ if [ -n "$eps_e1" ] && [ "$eps_e1" = "$eps_e40" ]; then
   echo "ok   3D: units of stress, E = 1e40: eps = $eps_e40 (E = 1: $eps_e1)"
 else
   echo "FAIL 3D: units of stress: eps = <$eps_e40> at E = 1e40, <$eps_e1> at E = 1"
+  failures=$((failures + 1))
+fi
+# with a gap (the active rows are displacement constraints: the solver's
+# tolerance is relative to the forces of the free rows, not to the gap)
+gap="subsection Contact
+  subsection Gap
+    set Function expression = 0.001*x
+  end
+end"
+count=$((count + 1))
+gap_e1=$(eps_of "gap, E = 1" "$gap")
+gap_e20=$(eps_of "gap, E = 1e-20" "$gap
+subsection Material
+  set Young modulus = 1e-20
+end
+subsection Boundary conditions
+  subsection Traction 1
+    set Function constants = p=1e-21
+  end
+  subsection Traction 2
+    set Function constants = p=1e-21
+  end
+end")
+if [ -n "$gap_e1" ] && awk -v a="$gap_e20" -v b="$gap_e1" \
+     'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * b) }'; then
+  echo "ok   units of stress with a gap, E = 1e-20: eps = $gap_e20 (E = 1: $gap_e1)"
+else
+  echo "FAIL units of stress with a gap: eps = <$gap_e20> at E = 1e-20, <$gap_e1> at E = 1"
   failures=$((failures + 1))
 fi
 
@@ -1430,6 +1501,15 @@ case_prm "Gmsh: tiny sizes in 2D" \
   "subsection Mesh
   set Source = file
   set File name = $work/square-tiny.geo
+end"
+# the sizes Gmsh computes times the file's Mesh.MeshSizeFactor
+{ cat "$src/tests/meshes/square.geo"; printf 'Mesh.MeshSizeFactor = 0.003;\n'; } > "$work/square-factor.geo"
+case_prm "Gmsh: Mesh.MeshSizeFactor = 0.003" \
+  "square-factor.geo>: its mesh sizes would make at least about 1e+06 triangles .*more than Maximum cells = 100000; refused before meshing" \
+  "set Maximum cells = 1e5
+subsection Mesh
+  set Source = file
+  set File name = $work/square-factor.geo
 end"
 sed 's/^lc = 0.5;/lc = -1;/' "$src/tests/meshes/square.geo" > "$work/square-negative.geo"
 case_prm "Gmsh: negative sizes in 2D" "Point(1) has the mesh size -1: sizes must be positive" \

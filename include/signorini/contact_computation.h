@@ -225,8 +225,9 @@ namespace Signorini
     void
     judge_solution();
 
-    /// Throw an InputError when the strain energy of the data (largest
-    /// magnitudes @p data on @p mesh) is beyond the range of doubles.
+    /// Throw an InputError when the stresses or the displacements of the
+    /// data (largest magnitudes @p data on @p mesh) are beyond what the
+    /// range of doubles holds in their squares.
     void
     check_data_scale(
       const Triangulation<dim>                               &mesh,

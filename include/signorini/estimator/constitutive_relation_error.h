@@ -62,6 +62,9 @@ namespace Signorini
       /// No stress and no contact work, to round-off (no load, or a rigid
       /// motion imposed): the solution is exact and eps = 0.
       bool stress_free = false;
+      /// Strains within 1e5 round-offs of max |u_h| / h_min (a rigid motion
+      /// much larger than the deformation): eps is not reliable.
+      bool polluted_by_round_off = false;
     };
 
     /// Section Error estimator: Enable, and the stress reconstructions.
