@@ -1303,31 +1303,18 @@ case_prm "loads of 1e-300" "stresses of order 1e-300 " \
     set Function constants = p=1e-300
   end
 end"
+# units E P: the block's Young modulus E and its two pressures P
+units() {
+  printf 'subsection Material\n  set Young modulus = %s\nend\n' "$1"
+  printf 'subsection Boundary conditions\n'
+  printf '  subsection Traction %s\n    set Function constants = p=%s\n  end\n' 1 "$2" 2 "$2"
+  printf 'end\n'
+}
 command -v mpirun > /dev/null && check_mpi 1 "MPI: loads of 1e-300 (3 ranks)" "stresses of order 1e-300 " 3 "$work/case.prm"
 case_prm "loads of 1e-160 with E = 1e-159" "stresses of order 1e-160 " \
-  "subsection Material
-  set Young modulus = 1e-159
-end
-subsection Boundary conditions
-  subsection Traction 1
-    set Function constants = p=1e-160
-  end
-  subsection Traction 2
-    set Function constants = p=1e-160
-  end
-end"
+  "$(units 1e-159 1e-160)"
 case_prm "loads of 1e150 with E = 1e151" "stresses of order 1e150 " \
-  "subsection Material
-  set Young modulus = 1e151
-end
-subsection Boundary conditions
-  subsection Traction 1
-    set Function constants = p=1e150
-  end
-  subsection Traction 2
-    set Function constants = p=1e150
-  end
-end"
+  "$(units 1e151 1e150)"
 
 # Values beyond single precision are not written as inf in the VTU file
 case_prm "loads of 1e39: the VTU cannot hold the displacement" \
@@ -1357,17 +1344,7 @@ close_eps() {
   fi
 }
 for E in -130 -50 -20 35 40 80 130; do
-  close_eps "units of stress: E = 1e$E" "subsection Material
-  set Young modulus = 1e$E
-end
-subsection Boundary conditions
-  subsection Traction 1
-    set Function constants = p=1e$((E - 1))
-  end
-  subsection Traction 2
-    set Function constants = p=1e$((E - 1))
-  end
-end"
+  close_eps "units of stress: E = 1e$E" "$(units "1e$E" "1e$((E - 1))")"
 done
 # in 3D (the estimate on tetrahedra): the extruded block with E = 1e40
 # and its loads in the same units gives the eps of E = 1
@@ -1399,17 +1376,7 @@ end"
 count=$((count + 1))
 gap_e1=$(eps_of "gap, E = 1" "$gap")
 gap_e20=$(eps_of "gap, E = 1e-20" "$gap
-subsection Material
-  set Young modulus = 1e-20
-end
-subsection Boundary conditions
-  subsection Traction 1
-    set Function constants = p=1e-21
-  end
-  subsection Traction 2
-    set Function constants = p=1e-21
-  end
-end")
+$(units 1e-20 1e-21)")
 if [ -n "$gap_e1" ] && awk -v a="$gap_e20" -v b="$gap_e1" \
      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * b) }'; then
   echo "ok   units of stress with a gap, E = 1e-20: eps = $gap_e20 (E = 1: $gap_e1)"
