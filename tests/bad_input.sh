@@ -1137,18 +1137,18 @@ check "3D: star patch of degree 3" \
   "Error estimator/Star patch/Local degree = 3: at most 2 on tetrahedra" "$work/cube.prm"
 # the element equilibration on tetrahedra: displacement element problems of
 # degree >= 3 and the enhanced or least squares densities only.
-# eet_case NAME EXPECTED ENTRY VALUE
+# eet_case NAME EXPECTED ENTRY VALUE [ENTRY VALUE]
 eet_case() {
   { cube_prm "$cube"; printf 'subsection Error estimator\n  set Enable = true\n'
-    printf '  subsection Element equilibration\n    set %s = %s\n  end\nend\n' "$3" "$4"; } > "$work/cube.prm"
+    printf '  subsection Element equilibration\n    set %s = %s\n' "$3" "$4"
+    [ $# -ge 6 ] && printf '    set %s = %s\n' "$5" "$6"
+    printf '  end\nend\n'; } > "$work/cube.prm"
   check "$1" "$2" "$work/cube.prm"
 }
-eet_case "3D: Johnson-Mercier element fields" \
-  "Element stress = equilibrated (Johnson-Mercier fields) is written for triangles" "Element stress" equilibrated
 eet_case "3D: minimised densities" \
   "Traction densities = minimised is written for triangles" "Traction densities" minimised
-eet_case "3D: element problems of degree 2" \
-  "Local degree must be at least 3 on tetrahedra" "Local degree" 2
+eet_case "3D: displacement element problems of degree 2" \
+  "Local degree must be at least 3 on tetrahedra" "Local degree" 2 "Element stress" displacement
 eet_case "3D: element problems of degree 5" \
   "Local degree is at most 4 on tetrahedra" "Local degree" 5
 cube_case "3D: geometry that calls Exit" \

@@ -1844,15 +1844,10 @@ namespace Signorini
     element_stress_names()
     {
       using ElementStress = typename ElementEquilibration<dim>::ElementStress;
-      // (the first is the default: on tetrahedra only the displacement
-      // problems are written)
+      // (the first is the default)
       static const NamedValues<ElementStress> names(
-        dim == 2 ? NamedValues<ElementStress>(
-                     {{"equilibrated", ElementStress::equilibrated, ""},
-                      {"displacement", ElementStress::displacement, ""}}) :
-                   NamedValues<ElementStress>(
-                     {{"displacement", ElementStress::displacement, ""},
-                      {"equilibrated", ElementStress::equilibrated, ""}}));
+        {{"equilibrated", ElementStress::equilibrated, ""},
+         {"displacement", ElementStress::displacement, ""}});
       return names;
     }
   } // namespace
@@ -1887,18 +1882,19 @@ namespace Signorini
                         element_stress_names<dim>().selection()),
                       "sigma^ on each element from its densities: "
                       "'displacement' (Neumann problem of degree Local "
-                      "degree, the paper) or 'equilibrated' (Johnson-Mercier "
-                      "field, exactly statically admissible: e is a "
-                      "guaranteed bound, doc/estimator.md; triangles only).");
+                      "degree, the paper) or 'equilibrated' "
+                      "(Johnson-Krizek-Mercier field, exactly statically "
+                      "admissible: e is a guaranteed bound, "
+                      "doc/estimator.md).");
     // (on tetrahedra the edge patches precondition less well than the
     // vertex patches on triangles: more iterations, doc/estimator.md)
     prm.declare_entry("Enhancement iterations",
-                      dim == 2 ? "50" : "200",
+                      dim == 2 ? "50" : "300",
                       Patterns::Integer(0, 10000),
                       "Largest number of conjugate gradient iterations of "
                       "the enhanced densities (every iterate is admissible).");
     prm.declare_entry("Enhancement tolerance",
-                      dim == 2 ? "1e-4" : "1e-6",
+                      dim == 2 ? "1e-4" : "1e-7",
                       Patterns::Double(0., 1.),
                       "Stop the enhancement when an iteration decreases the "
                       "error measure by at most this fraction of the "
@@ -1944,27 +1940,18 @@ namespace Signorini
                             prm.get_integer("Enhancement region rings"))}
     , simplex_implementation(prm.get_bool("Simplex implementation"))
   {
-    if (simplex_implementation && element_stress == ElementStress::equilibrated)
-      throw InputError(
-        "Error estimator/Element equilibration/Simplex implementation = true "
-        "computes displacement element problems: set Element stress = "
-        "displacement");
     if (simplex_implementation &&
         traction_densities == TractionDensities::minimised)
       throw InputError(
         "Error estimator/Element equilibration/Simplex implementation = true "
         "has no minimised densities: choose enhanced or least squares");
-    if (dim == 3 && element_stress == ElementStress::equilibrated)
-      throw InputError(
-        "Error estimator/Element equilibration/Element stress = "
-        "equilibrated (Johnson-Mercier fields) is written for triangles; on "
-        "tetrahedra choose displacement");
     if (dim == 3 && traction_densities == TractionDensities::minimised)
       throw InputError(
         "Error estimator/Element equilibration/Traction densities = "
         "minimised is written for triangles; on tetrahedra choose enhanced "
         "or least squares");
-    if (dim == 3 && local_degree < 3)
+    if (dim == 3 && element_stress == ElementStress::displacement &&
+        local_degree < 3)
       throw InputError(
         "Error estimator/Element equilibration/Local degree must be at "
         "least 3 on tetrahedra (below, some linear face densities do no "
@@ -2111,6 +2098,8 @@ namespace Signorini
         enhancement_iterations :
         0;
     settings.tolerance = enhancement_tolerance;
+    settings.equilibrated_fields =
+      element_stress == ElementStress::equilibrated;
     const SimplexEquilibrationChecks checks =
       compute_simplex_element_equilibration(
         input, admissible_displacement, settings, error_squared, sum_squared);

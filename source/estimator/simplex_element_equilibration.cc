@@ -7,6 +7,7 @@
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
+#include <signorini/estimator/johnson_krizek_mercier_element.h>
 #include <signorini/estimator/simplex_element_equilibration.h>
 #include <signorini/estimator/small_matrices.h>
 #include <signorini/progress.h>
@@ -127,6 +128,16 @@ namespace Signorini
           if (face_vertices[face][k] == vertex)
             return k;
         return invalid;
+      }
+
+      /// The position in @p cell of the vertex opposite its face @p f.
+      unsigned int
+      opposite_vertex(const unsigned int cell, const unsigned int f) const
+      {
+        unsigned int v = 0;
+        while (corner(cell_faces[cell][f], cell_vertices[cell][v]) != invalid)
+          ++v;
+        return v;
       }
 
       /// The triangulation's vertices.
@@ -353,11 +364,7 @@ namespace Signorini
           }
         for (unsigned int f = 0; f <= dim; ++f)
           {
-            const unsigned int face     = mesh.cell_faces[cell][f];
-            unsigned int       opposite = 0;
-            while (mesh.corner(face, mesh.cell_vertices[cell][opposite]) !=
-                   invalid)
-              ++opposite;
+            const unsigned int opposite = mesh.opposite_vertex(cell, f);
             // the hat of the opposite vertex grows inwards
             normal[f] = -grad_hat[opposite] / grad_hat[opposite].norm();
           }
@@ -1303,6 +1310,158 @@ namespace Signorini
 
 
     /**
+     * One cell's Johnson-Krizek-Mercier field in the density slots of its
+     * faces: where each slot's value goes among the element's tractions
+     * (JohnsonKrizekMercierElement::traction_index()) and with which sign
+     * (the densities are the tractions on the face's first cell), and the
+     * body force f~ of the split, constant on each sub-simplex, with the
+     * resultant and moment that f_d has in the rule of the element
+     * problems (the rule of the equilibrium of the densities).
+     */
+    template <int dim>
+    struct EquilibratedCell
+    {
+      using Element = JohnsonKrizekMercierElement<dim>;
+
+      EquilibratedCell(const Context<dim> &context, const unsigned int cell)
+      {
+        const auto                     &mesh = context.mesh;
+        std::array<Point<dim>, dim + 1> vertices;
+        for (unsigned int v = 0; v <= dim; ++v)
+          vertices[v] = mesh.vertices[mesh.cell_vertices[cell][v]];
+        geometry = Element::geometry(vertices);
+        for (unsigned int f = 0; f <= dim; ++f)
+          {
+            const unsigned int face     = mesh.cell_faces[cell][f];
+            const unsigned int opposite = mesh.opposite_vertex(cell, f);
+            for (unsigned int k = 0; k < dim; ++k)
+              {
+                unsigned int j = 0;
+                while (mesh.cell_vertices[cell][j] !=
+                       mesh.face_vertices[face][k])
+                  ++j;
+                for (unsigned int c = 0; c < dim; ++c)
+                  {
+                    const unsigned int a = slot<dim>(f, k, c);
+                    traction_index[a] = Element::traction_index(opposite, j, c);
+                    sign[a]           = mesh.sign(face, cell);
+                  }
+              }
+          }
+
+        const auto &force_function =
+          context.input.boundary_conditions.body_force;
+        if (!force_function)
+          return;
+        const auto             &rule = context.rules.cell;
+        std::vector<Point<dim>> points(rule.size());
+        for (unsigned int q = 0; q < rule.size(); ++q)
+          points[q] = vertices[0] + geometry.jacobian * rule.point(q);
+        std::vector<Vector<double>> force(points.size(), Vector<double>(dim));
+        force_function->vector_value_list(points, force);
+        Tensor<1, dim>                            resultant;
+        std::array<double, (dim * (dim - 1)) / 2> moments{};
+        for (unsigned int q = 0; q < rule.size(); ++q)
+          {
+            Tensor<1, dim> f;
+            for (unsigned int c = 0; c < dim; ++c)
+              f[c] = force[q][c];
+            const double weight = rule.weight(q) * geometry.determinant;
+            resultant += weight * f;
+            for (unsigned int k = 0; k < moments.size(); ++k)
+              moments[k] +=
+                weight *
+                (f * Element::rotation(k, points[q] - geometry.centroid));
+          }
+        body_force = Element::balanced_body_force(geometry, resultant, moments);
+      }
+
+      /// The element's tractions from its slot values @p densities.
+      typename Element::Traction
+      traction(const Vector<double> &densities) const
+      {
+        typename Element::Traction result;
+        for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+          result[traction_index[a] / dim][traction_index[a] % dim] =
+            sign[a] * densities[a];
+        return result;
+      }
+
+      typename Element::Geometry geometry;
+      /// By slot: the traction value and the sign.
+      std::array<unsigned int, n_element_values<dim>> traction_index;
+      std::array<double, n_element_values<dim>>       sign;
+      /// f~ (zero without body force).
+      typename Element::BodyForce body_force;
+    };
+
+
+
+    /**
+     * The Johnson-Krizek-Mercier fields of the @p needed cells as quadratic
+     * functions of their densities d: ||sigma^(d) -/+ K eps(U^)||^2_E =
+     * d^T H d + 2 g-/+^T d + c-/+ (JohnsonKrizekMercierElement::hessian()
+     * and linear_part() in the element's tractions, which are the slot
+     * values up to order and sign).
+     */
+    template <int dim>
+    ElementQuadratics<dim>
+    equilibrated_quadratics(const Context<dim>                     &context,
+                            const std::vector<bool>                &needed,
+                            const JohnsonKrizekMercierElement<dim> &element)
+    {
+      constexpr unsigned int n = n_element_values<dim>;
+      ElementQuadratics<dim> quadratics;
+      quadratics.hessian.resize(context.n_cells);
+      quadratics.gradient.resize(context.n_cells);
+      quadratics.sum_gradient.resize(context.n_cells);
+      quadratics.constant.resize(context.n_cells);
+      quadratics.sum_constant.resize(context.n_cells);
+      parallel::apply_to_subranges(
+        0u,
+        context.n_cells,
+        [&](const unsigned int begin, const unsigned int end) {
+          for (unsigned int cell = begin; cell < end; ++cell)
+            if (needed[cell])
+              {
+                const EquilibratedCell<dim> data(context, cell);
+                const FullMatrix<double>    hessian =
+                  element.hessian(data.geometry);
+                const SymmetricTensor<2, dim> admissible =
+                  context.input.material.stress(
+                    context.strains.admissible_strain[cell]);
+                const auto difference = element.linear_part(data.geometry,
+                                                            data.body_force,
+                                                            admissible);
+                const auto sum        = element.linear_part(data.geometry,
+                                                     data.body_force,
+                                                     -admissible);
+                FullMatrix<double> full(n, n);
+                quadratics.gradient[cell].reinit(n);
+                quadratics.sum_gradient[cell].reinit(n);
+                for (unsigned int a = 0; a < n; ++a)
+                  {
+                    const unsigned int t = data.traction_index[a];
+                    for (unsigned int b = 0; b < n; ++b)
+                      full(a, b) = data.sign[a] * data.sign[b] *
+                                   hessian(t, data.traction_index[b]);
+                    quadratics.gradient[cell][a] =
+                      data.sign[a] * difference.first[t];
+                    quadratics.sum_gradient[cell][a] =
+                      data.sign[a] * sum.first[t];
+                  }
+                quadratics.hessian[cell]      = PackedSymmetric(full);
+                quadratics.constant[cell]     = difference.second;
+                quadratics.sum_constant[cell] = sum.second;
+              }
+        },
+        16);
+      return quadratics;
+    }
+
+
+
+    /**
      * The enhancement of @p densities (Pled, Chamoin and Ladeveze 2012):
      * the conjugate gradient method in the density changes that keep every
      * element in equilibrium, preconditioned by the patches of the
@@ -1598,17 +1757,21 @@ namespace Signorini
 
 
     /**
-     * The terms of e [14] of the cells this rank owns, from their
-     * quadratics at @p densities; returns the largest relative defect of
-     * the equilibrium [2] (resultant and moment) of an element's data.
+     * The terms of e [14] of the cells this rank owns at @p densities: from
+     * the Johnson-Krizek-Mercier fields of @p element if given (computed
+     * here, their constraints checked), otherwise from the @p quadratics.
+     * Returns the largest relative defect of the equilibrium [2]
+     * (resultant and moment) of an element's data and of the constraints
+     * of its field.
      */
     template <int dim>
     double
-    element_errors(const Context<dim>           &context,
-                   const ElementQuadratics<dim> &quadratics,
-                   const std::vector<double>    &densities,
-                   Vector<double>               &error_squared,
-                   Vector<double>               &sum_squared)
+    element_errors(const Context<dim>                     &context,
+                   const ElementQuadratics<dim>           &quadratics,
+                   const JohnsonKrizekMercierElement<dim> *element,
+                   const std::vector<double>              &densities,
+                   Vector<double>                         &error_squared,
+                   Vector<double>                         &sum_squared)
     {
       const auto &bc           = context.input.boundary_conditions;
       const auto &mesh         = context.mesh;
@@ -1633,14 +1796,37 @@ namespace Signorini
                 const CellGeometry<dim> geometry(mesh, cell);
                 const Vector<double>    d =
                   element_densities(mesh, cell, densities);
-                const double quadratic = hessian[cell].norm_square(d);
-                // (round-off could make a vanishing error negative)
-                error_squared[cell] = std::max(
-                  quadratic + 2. * (gradient[cell] * d) + constant[cell], 0.);
-                sum_squared[cell] =
-                  std::max(quadratic + 2. * (sum_gradient[cell] * d) +
-                             sum_constant[cell],
-                           0.);
+                if (element != nullptr)
+                  {
+                    const EquilibratedCell<dim> data(context, cell);
+                    const auto                  traction = data.traction(d);
+                    const auto                  field =
+                      element->field(data.geometry, traction, data.body_force);
+                    const SymmetricTensor<2, dim> admissible =
+                      context.input.material.stress(
+                        context.strains.admissible_strain[cell]);
+                    error_squared[cell] =
+                      element->energy(data.geometry, field, admissible);
+                    sum_squared[cell] =
+                      element->energy(data.geometry, field, -admissible);
+                    range_defect = std::max(
+                      range_defect,
+                      JohnsonKrizekMercierElement<dim>::constraint_defect(
+                        data.geometry, field, traction, data.body_force));
+                  }
+                else
+                  {
+                    const double quadratic = hessian[cell].norm_square(d);
+                    // (round-off could make a vanishing error negative)
+                    error_squared[cell] =
+                      std::max(quadratic + 2. * (gradient[cell] * d) +
+                                 constant[cell],
+                               0.);
+                    sum_squared[cell] =
+                      std::max(quadratic + 2. * (sum_gradient[cell] * d) +
+                                 sum_constant[cell],
+                               0.);
+                  }
 
                 // the resultant and moment of the element's data
                 const FullMatrix<double> work =
@@ -1718,7 +1904,13 @@ namespace Signorini
     //    generated; Pled et al. 2012 use vertices in 2D)
     // (the hinges only when there is an enhancement)
     std::unique_ptr<const Hinges<dim>> hinges;
-    std::vector<bool>                  needed(context.mesh.owned);
+    // (the equilibrated fields compute the errors from the fields: their
+    // quadratics serve the enhancement only, which multiplies by those of
+    // the owned cells and factors those of the patches)
+    std::vector<bool> needed =
+      (settings.equilibrated_fields && settings.max_iterations == 0) ?
+        std::vector<bool>(context.n_cells, false) :
+        context.mesh.owned;
     if (settings.max_iterations > 0)
       {
         hinges =
@@ -1728,8 +1920,13 @@ namespace Signorini
             for (const unsigned int cell : hinges->cells[h])
               needed[cell] = true;
       }
+    std::unique_ptr<const JohnsonKrizekMercierElement<dim>> element;
+    if (settings.equilibrated_fields)
+      element = std::make_unique<const JohnsonKrizekMercierElement<dim>>(
+        input.material);
     const ElementQuadratics<dim> quadratics =
-      element_quadratics(context, needed);
+      element ? equilibrated_quadratics(context, needed, *element) :
+                element_quadratics(context, needed);
     progress.report([]() { return std::string("element problems done"); });
 
     // 3. the enhancement
@@ -1738,8 +1935,12 @@ namespace Signorini
         enhance_densities(context, *hinges, quadratics, densities);
 
     // 4. the terms of e [14] per element, and the check of equilibrium [2]
-    checks.equilibrium = element_errors(
-      context, quadratics, densities, error_squared, sum_squared);
+    checks.equilibrium = element_errors(context,
+                                        quadratics,
+                                        element.get(),
+                                        densities,
+                                        error_squared,
+                                        sum_squared);
     return checks;
   }
 

@@ -23,6 +23,10 @@ namespace Signorini
     /// Stop when an iteration decreases J by at most this fraction of the
     /// decrease so far.
     double tolerance = 1e-4;
+    /// sigma^_E the Johnson-Krizek-Mercier field of the element's data
+    /// (exactly statically admissible: e is a guaranteed bound) instead of
+    /// the stress of its displacement problem.
+    bool equilibrated_fields = true;
   };
 
   /// What compute_simplex_element_equilibration() measured.
@@ -32,7 +36,9 @@ namespace Signorini
     /// classical densities (round-off if correct).
     double prolongation = 0.;
     /// Largest relative defect of the equilibrium (resultant and moment) of
-    /// the data of an element problem (round-off if correct).
+    /// the data of an element problem, and with equilibrated fields of
+    /// their constraints (JohnsonKrizekMercierElement::constraint_defect();
+    /// round-off if correct).
     double equilibrium = 0.;
     /// The decrease of J = 1/2 sum_E ||sigma^_E - K eps(U^)||^2 in each
     /// iteration of the enhancement (positive).
@@ -50,9 +56,13 @@ namespace Signorini
    *    least squares solution towards the averaged finite element tractions;
    *    F^ = F_d on loaded faces, R^ on GC, free on the Dirichlet
    *    components);
-   * 2. sigma^_E = K eps(v) from the Neumann problem of each element with
-   *    its data, in complete polynomials of degree settings.degree (rigid
-   *    motions removed): a quadratic function of the element's densities;
+   * 2. sigma^_E, a quadratic function of the element's densities: with
+   *    settings.equilibrated_fields the Johnson-Krizek-Mercier field of the
+   *    element's data (JohnsonKrizekMercierElement: div sigma^ + f~ = 0
+   *    and sigma^ n = F^ exactly, f~ constant on each sub-simplex with the
+   *    resultant and moment of f_d), otherwise K eps(v) from the Neumann
+   *    problem of each element with its data, in complete polynomials of
+   *    degree settings.degree (rigid motions removed);
    * 3. the enhancement (weak prolongation condition, Pled, Chamoin and
    *    Ladeveze 2012): the densities re-chosen to minimise
    *    J = 1/2 sum_E ||sigma^_E - K eps(U^)||^2 under the equilibrium of
