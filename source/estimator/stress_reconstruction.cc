@@ -102,9 +102,9 @@ namespace Signorini
         family,
         "element equilibration",
         "traction densities and element fields: by default enhanced "
-        "densities and exactly equilibrated fields, a guaranteed bound "
-        "(tetrahedra: displacement fields); the paper's technique [LAD 91] "
-        "with least squares densities and displacement fields",
+        "densities and exactly equilibrated fields, a guaranteed bound; "
+        "the paper's technique [LAD 91] with least squares densities and "
+        "displacement fields",
         "Element equilibration");
       add_reconstruction<dim, StarPatchEquilibration<dim>>(
         family, "star patch", "flux-free vertex-patch problems", "Star patch");
