@@ -330,6 +330,14 @@ namespace Signorini
                "deformation): eps is polluted by round-off; take the rigid "
                "motion out of the data"
             << std::endl;
+    if (with_timing && !estimate.step_seconds.empty())
+      {
+        pcout << "   estimate steps (rank 0):";
+        for (const auto &[step, seconds] : estimate.step_seconds)
+          pcout << (&step == &estimate.step_seconds.front().first ? " " : ", ")
+                << step << ' ' << std::setprecision(3) << seconds << " s";
+        pcout << std::setprecision(6) << std::endl;
+      }
     statistics_table.add_value("e", std::sqrt(estimate.e_squared));
     statistics_table.add_value("eps", estimate.eps);
     statistics_table.add_value("eps_contact", estimate.eps_contact);

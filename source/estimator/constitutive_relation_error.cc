@@ -97,6 +97,7 @@ namespace Signorini
                             sum_squared);
     result.equilibrium_defect = reconstruction->equilibrium_defect();
     result.condition_defect   = reconstruction->condition_defect();
+    result.step_seconds       = reconstruction->step_seconds();
 
     // the contact term 2 int_GC R^_n (W^_n - g), per cell
     result.contact_local.reinit(error_squared.size());

@@ -2105,6 +2105,7 @@ namespace Signorini
         input, admissible_displacement, settings, error_squared, sum_squared);
     this->max_condition_defect   = checks.prolongation;
     this->max_equilibrium_defect = checks.equilibrium;
+    this->steps                  = checks.seconds;
   }
 
 

@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/timer.h>
 
 #include <deal.II/fe/fe_values.h>
 
@@ -1885,17 +1886,25 @@ namespace Signorini
     AssertThrow(!input.dof_handler.get_triangulation().has_hanging_nodes(),
                 ExcMessage(
                   "the element equilibration needs a conforming mesh"));
-    Progress     progress("estimate",
+    Progress                   progress("estimate",
                       input.dof_handler.get_triangulation().get_communicator());
+    SimplexEquilibrationChecks checks;
+    Timer                      timer;
+    // the wall seconds since the last step, under @p step
+    const auto lap = [&](const std::string &step) {
+      checks.seconds.emplace_back(step, timer.wall_time());
+      timer.restart();
+    };
     Context<dim> context(input, admissible_displacement, settings);
     error_squared.reinit(context.n_cells);
     sum_squared.reinit(context.n_cells);
-    SimplexEquilibrationChecks checks;
+    lap("mesh and strains");
 
     // 1. the classical densities
     std::vector<double> densities = data_densities(context);
     checks.prolongation           = classical_densities(context, densities);
     progress.report([]() { return std::string("classical densities done"); });
+    lap("classical densities");
 
     // 2. the element problems on the cells this rank owns and those of the
     //    patches of the enhancement: around each hinge, a vertex in 2D, an
@@ -1928,11 +1937,16 @@ namespace Signorini
       element ? equilibrated_quadratics(context, needed, *element) :
                 element_quadratics(context, needed);
     progress.report([]() { return std::string("element problems done"); });
+    lap(settings.equilibrated_fields ? "element fields" : "element problems");
 
     // 3. the enhancement
     if (hinges)
-      checks.measure =
-        enhance_densities(context, *hinges, quadratics, densities);
+      {
+        checks.measure =
+          enhance_densities(context, *hinges, quadratics, densities);
+        lap("enhancement (" + std::to_string(checks.measure.size()) +
+            " iterations)");
+      }
 
     // 4. the terms of e [14] per element, and the check of equilibrium [2]
     checks.equilibrium = element_errors(context,
@@ -1941,6 +1955,7 @@ namespace Signorini
                                         densities,
                                         error_squared,
                                         sum_squared);
+    lap("element errors");
     return checks;
   }
 

@@ -59,6 +59,8 @@ namespace Signorini
       /// patch)
       double       condition_defect     = 0.;
       unsigned int positive_multipliers = 0; ///< pointwise: Lambda_i > 0
+      /// StressReconstruction::step_seconds()
+      std::vector<std::pair<std::string, double>> step_seconds;
       /// No stress and no contact work, to round-off (no load, or a rigid
       /// motion imposed): the solution is exact and eps = 0.
       bool stress_free = false;

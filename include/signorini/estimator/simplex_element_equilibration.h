@@ -43,6 +43,8 @@ namespace Signorini
     /// The decrease of J = 1/2 sum_E ||sigma^_E - K eps(U^)||^2 in each
     /// iteration of the enhancement (positive).
     std::vector<double> measure;
+    /// The wall seconds of the steps on this rank, in order.
+    std::vector<std::pair<std::string, double>> seconds;
   };
 
   /**

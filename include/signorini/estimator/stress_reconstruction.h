@@ -17,6 +17,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace Signorini
 {
@@ -113,7 +115,17 @@ namespace Signorini
     virtual std::string
     condition() const = 0;
 
+    /// The wall seconds of the steps of the last compute() on this rank, in
+    /// order (empty where a reconstruction does not time its steps).
+    const std::vector<std::pair<std::string, double>> &
+    step_seconds() const
+    {
+      return steps;
+    }
+
   protected:
+    /// See step_seconds().
+    std::vector<std::pair<std::string, double>> steps;
     /// See equilibrium_defect().
     double max_equilibrium_defect = 0.;
     /// See condition_defect().
