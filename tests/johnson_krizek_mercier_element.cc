@@ -276,13 +276,18 @@ namespace
 
         // 4. the quadratic in the tractions
         const SymmetricTensor<2, dim> tau     = random_stress<dim>(generator);
-        const FullMatrix<double>      hessian = element.hessian(g);
-        const auto [gradient, constant] = element.linear_part(g, force, tau);
-        Vector<double> t(JKM::n_traction_values);
-        for (unsigned int i = 0; i < t.size(); ++i)
-          t[i] = traction[i / dim][i % dim];
-        const double quadratic =
-          hessian.matrix_norm_square(t) + 2. * (gradient * t) + constant;
+        const auto                    hessian = element.hessian(g);
+        const auto [gradient, constant]  = element.linear_part(g, force, tau);
+        constexpr unsigned int n         = JKM::n_traction_values;
+        double                 quadratic = constant;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double t_i = traction[i / dim][i % dim];
+            quadratic += 2. * gradient[i] * t_i;
+            for (unsigned int j = 0; j < n; ++j)
+              quadratic +=
+                t_i * hessian[i * n + j] * traction[j / dim][j % dim];
+          }
         const double energy = element.energy(g, random_field, tau);
         deallog << "   quadratic = energy: "
                 << yes_no(std::abs(quadratic - energy) < tolerance * energy,

@@ -130,12 +130,12 @@ namespace Signorini
   template <int dim>
   JohnsonKrizekMercierElement<dim>::JohnsonKrizekMercierElement(
     const LinearElasticMaterial<dim> &material)
-    : compliance(n_components, n_components)
   {
     // sigma : K^-1 tau = s^T S t on unrolled components
     for (unsigned int a = 0; a < n_components; ++a)
       for (unsigned int b = 0; b < n_components; ++b)
-        compliance(a, b) = unit<dim>(a) * material.strain(unit<dim>(b));
+        compliance[a * n_components + b] =
+          unit<dim>(a) * material.strain(unit<dim>(b));
 
     // the constraints on the reference simplex: continuity across the
     // interior faces (zero data), then the tractions (traction_index()),
@@ -221,15 +221,16 @@ namespace Signorini
     inverse.invert(normal);
     FullMatrix<double> pseudo_inverse(n_coefficients, constraints.m());
     inverse.mTmult(pseudo_inverse, constraints);
-    traction_map.reinit(n_coefficients, n_traction_values);
-    body_force_map.reinit(n_coefficients, n_divergence);
+    traction_map.resize(n_coefficients * n_traction_values);
+    body_force_map.resize(n_coefficients * n_divergence);
     for (unsigned int i = 0; i < n_coefficients; ++i)
       {
         for (unsigned int t = 0; t < n_traction_values; ++t)
-          traction_map(i, t) = pseudo_inverse(i, n_continuity + t);
+          traction_map[i * n_traction_values + t] =
+            pseudo_inverse(i, n_continuity + t);
         // div sigma = -f
         for (unsigned int f = 0; f < n_divergence; ++f)
-          body_force_map(i, f) =
+          body_force_map[i * n_divergence + f] =
             -pseudo_inverse(i, n_continuity + n_traction_values + f);
       }
 
@@ -237,21 +238,24 @@ namespace Signorini
     for (unsigned int a = 0; a < n_components; ++a)
       for (unsigned int b = a; b < n_components; ++b)
         {
-          FullMatrix<double> pair_compliance(n_components, n_components);
-          pair_compliance(a, b) = 1.;
-          pair_compliance(b, a) = 1.;
-          FullMatrix<double> weighted_map(n_coefficients, n_traction_values);
+          ComponentMatrix pair{};
+          pair[a * n_components + b] = 1.;
+          pair[b * n_components + a] = 1.;
+          std::vector<Coefficients> weighted_columns(n_traction_values);
           for (unsigned int t = 0; t < n_traction_values; ++t)
             {
-              Vector<double> column(n_coefficients);
+              Coefficients column;
               for (unsigned int i = 0; i < n_coefficients; ++i)
-                column[i] = traction_map(i, t);
-              const Vector<double> w = weighted(pair_compliance, column);
-              for (unsigned int i = 0; i < n_coefficients; ++i)
-                weighted_map(i, t) = w[i];
+                column[i] = traction_map[i * n_traction_values + t];
+              weighted_columns[t] = weighted(pair, column);
             }
-          FullMatrix<double> part(n_traction_values, n_traction_values);
-          traction_map.Tmmult(part, weighted_map);
+          TractionMatrix part{};
+          for (unsigned int t = 0; t < n_traction_values; ++t)
+            for (unsigned int u = 0; u < n_traction_values; ++u)
+              for (unsigned int i = 0; i < n_coefficients; ++i)
+                part[t * n_traction_values + u] +=
+                  traction_map[i * n_traction_values + t] *
+                  weighted_columns[u][i];
           hessian_parts.push_back(part);
         }
   }
@@ -259,39 +263,45 @@ namespace Signorini
 
 
   template <int dim>
-  FullMatrix<double>
+  typename JohnsonKrizekMercierElement<dim>::ComponentMatrix
   JohnsonKrizekMercierElement<dim>::reference_compliance(
     const Geometry &geometry) const
   {
-    FullMatrix<double> piola(n_components, n_components);
+    ComponentMatrix piola;
     for (unsigned int b = 0; b < n_components; ++b)
       {
         const SymmetricTensor<2, dim> image =
           congruence<dim>(geometry.jacobian, unit<dim>(b), 1.);
         for (unsigned int a = 0; a < n_components; ++a)
-          piola(a, b) =
+          piola[a * n_components + b] =
             image[SymmetricTensor<2, dim>::unrolled_to_component_indices(a)];
       }
-    FullMatrix<double> product(n_components, n_components);
-    compliance.mmult(product, piola);
-    FullMatrix<double> result(n_components, n_components);
-    piola.Tmmult(result, product);
+    ComponentMatrix product{}, result{};
+    for (unsigned int a = 0; a < n_components; ++a)
+      for (unsigned int c = 0; c < n_components; ++c)
+        for (unsigned int b = 0; b < n_components; ++b)
+          product[a * n_components + b] +=
+            compliance[a * n_components + c] * piola[c * n_components + b];
+    for (unsigned int a = 0; a < n_components; ++a)
+      for (unsigned int c = 0; c < n_components; ++c)
+        for (unsigned int b = 0; b < n_components; ++b)
+          result[a * n_components + b] +=
+            piola[c * n_components + a] * product[c * n_components + b];
     return result;
   }
 
 
 
   template <int dim>
-  Vector<double>
-  JohnsonKrizekMercierElement<dim>::weighted(
-    const FullMatrix<double> &reference_compliance,
-    const Vector<double>     &x) const
+  typename JohnsonKrizekMercierElement<dim>::Coefficients
+  JohnsonKrizekMercierElement<dim>::weighted(const ComponentMatrix &c_hat,
+                                             const Coefficients    &x) const
   {
     // the P1 mass matrix of a reference sub-simplex: |T^_s| / ((d + 1)
     // (d + 2)) (1 + delta_jk), |T^_s| = 1 / (d! (d + 1))
     const double mass =
       1. / (factorial(dim) * n_vertices * n_vertices * (n_vertices + 1));
-    Vector<double> result(n_coefficients);
+    Coefficients result;
     for (unsigned int s = 0; s < n_vertices; ++s)
       {
         // sum of the nodal values of T_s, then (1 + delta) per node
@@ -304,7 +314,7 @@ namespace Signorini
             {
               double value = 0.;
               for (unsigned int b = 0; b < n_components; ++b)
-                value += reference_compliance(a, b) *
+                value += c_hat[a * n_components + b] *
                          (sum[b] + x[coefficient_index(s, j, b)]);
               result[coefficient_index(s, j, a)] = mass * value;
             }
@@ -315,13 +325,14 @@ namespace Signorini
 
 
   template <int dim>
-  Vector<double>
+  typename JohnsonKrizekMercierElement<dim>::Coefficients
   JohnsonKrizekMercierElement<dim>::reference_coefficients(
     const Geometry  &geometry,
     const Traction  &traction,
     const BodyForce &body_force) const
   {
-    Vector<double> reference_traction(n_traction_values);
+    constexpr unsigned int n_forces = n_vertices * dim;
+    TractionVector         reference_traction;
     for (unsigned int corner = 0; corner < n_vertices * dim; ++corner)
       {
         const Tensor<1, dim> t = geometry.face_ratio[corner / dim] *
@@ -329,7 +340,7 @@ namespace Signorini
         for (unsigned int c = 0; c < dim; ++c)
           reference_traction[corner * dim + c] = t[c];
       }
-    Vector<double> reference_force(n_vertices * dim);
+    std::array<double, n_forces> reference_force;
     for (unsigned int s = 0; s < n_vertices; ++s)
       {
         const Tensor<1, dim> f =
@@ -337,9 +348,18 @@ namespace Signorini
         for (unsigned int c = 0; c < dim; ++c)
           reference_force[s * dim + c] = f[c];
       }
-    Vector<double> x(n_coefficients);
-    traction_map.vmult(x, reference_traction);
-    body_force_map.vmult_add(x, reference_force);
+    Coefficients x;
+    for (unsigned int i = 0; i < n_coefficients; ++i)
+      {
+        const double *traction_row = &traction_map[i * n_traction_values];
+        const double *force_row    = &body_force_map[i * n_forces];
+        double        value        = 0.;
+        for (unsigned int t = 0; t < n_traction_values; ++t)
+          value += traction_row[t] * reference_traction[t];
+        for (unsigned int f = 0; f < n_forces; ++f)
+          value += force_row[f] * reference_force[f];
+        x[i] = value;
+      }
     return x;
   }
 
@@ -351,7 +371,7 @@ namespace Signorini
                                           const Traction  &traction,
                                           const BodyForce &body_force) const
   {
-    const Vector<double> x =
+    const Coefficients x =
       reference_coefficients(geometry, traction, body_force);
     Field result;
     for (unsigned int node = 0; node < n_nodes; ++node)
@@ -402,7 +422,7 @@ namespace Signorini
         for (unsigned int b = 0; b < n_components; ++b)
           value +=
             x[SymmetricTensor<2, dim>::unrolled_to_component_indices(a)] *
-            compliance(a, b) *
+            compliance[a * n_components + b] *
             y[SymmetricTensor<2, dim>::unrolled_to_component_indices(b)];
       return value;
     };
@@ -427,47 +447,62 @@ namespace Signorini
 
 
   template <int dim>
-  FullMatrix<double>
+  typename JohnsonKrizekMercierElement<dim>::TractionMatrix
   JohnsonKrizekMercierElement<dim>::hessian(const Geometry &geometry) const
   {
-    const FullMatrix<double> c_hat = reference_compliance(geometry);
-    FullMatrix<double>       reference(n_traction_values, n_traction_values);
-    unsigned int             part = 0;
+    constexpr unsigned int n     = n_traction_values;
+    const ComponentMatrix  c_hat = reference_compliance(geometry);
+    TractionMatrix         reference{};
+    unsigned int           part = 0;
     for (unsigned int a = 0; a < n_components; ++a)
       for (unsigned int b = a; b < n_components; ++b, ++part)
-        reference.add(c_hat(a, b), hessian_parts[part]);
-    // H = T^T H^ T / |det B|, T the block diagonal of face_ratio B^-1
-    FullMatrix<double> result(n_traction_values, n_traction_values);
-    for (unsigned int i = 0; i < n_traction_values; ++i)
-      for (unsigned int j = 0; j < n_traction_values; ++j)
         {
-          const unsigned int ci = i / dim, ai = i % dim;
+          const double  factor = c_hat[a * n_components + b];
+          const double *values = hessian_parts[part].data();
+          for (unsigned int i = 0; i < n * n; ++i)
+            reference[i] += factor * values[i];
+        }
+    // H = T^T H^ T / |det B|, T the block diagonal of face_ratio B^-1:
+    // first H^ T, then T^T (H^ T)
+    TractionMatrix right, result;
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        {
           const unsigned int cj = j / dim, aj = j % dim;
           double             value = 0.;
-          for (unsigned int p = 0; p < dim; ++p)
-            for (unsigned int q = 0; q < dim; ++q)
-              value += geometry.inverse_jacobian[p][ai] *
-                       reference(ci * dim + p, cj * dim + q) *
-                       geometry.inverse_jacobian[q][aj];
-          result(i, j) = value * geometry.face_ratio[ci / dim] *
-                         geometry.face_ratio[cj / dim] / geometry.determinant;
+          for (unsigned int q = 0; q < dim; ++q)
+            value += reference[i * n + cj * dim + q] *
+                     geometry.inverse_jacobian[q][aj];
+          right[i * n + j] = value * geometry.face_ratio[cj / dim];
         }
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const unsigned int ci = i / dim, ai = i % dim;
+        const double       factor =
+          geometry.face_ratio[ci / dim] / geometry.determinant;
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            double value = 0.;
+            for (unsigned int p = 0; p < dim; ++p)
+              value += geometry.inverse_jacobian[p][ai] *
+                       right[(ci * dim + p) * n + j];
+            result[i * n + j] = factor * value;
+          }
+      }
     return result;
   }
 
 
 
   template <int dim>
-  std::pair<Vector<double>, double>
+  std::pair<typename JohnsonKrizekMercierElement<dim>::TractionVector, double>
   JohnsonKrizekMercierElement<dim>::linear_part(
     const Geometry                &geometry,
     const BodyForce               &body_force,
     const SymmetricTensor<2, dim> &tau) const
   {
     // y = x^_f - x^_tau, the reference coefficients without tractions
-    Traction       no_traction;
-    Vector<double> y =
-      reference_coefficients(geometry, no_traction, body_force);
+    Coefficients y = reference_coefficients(geometry, Traction(), body_force);
     const SymmetricTensor<2, dim> tau_hat =
       congruence<dim>(geometry.inverse_jacobian,
                       tau,
@@ -476,10 +511,17 @@ namespace Signorini
       for (unsigned int c = 0; c < n_components; ++c)
         y[node * n_components + c] -=
           tau_hat[SymmetricTensor<2, dim>::unrolled_to_component_indices(c)];
-    const Vector<double> w = weighted(reference_compliance(geometry), y);
-    Vector<double>       reference_gradient(n_traction_values);
-    traction_map.Tvmult(reference_gradient, w);
-    Vector<double> gradient(n_traction_values);
+    const Coefficients w = weighted(reference_compliance(geometry), y);
+    TractionVector     reference_gradient{};
+    double             constant = 0.;
+    for (unsigned int i = 0; i < n_coefficients; ++i)
+      {
+        const double *row = &traction_map[i * n_traction_values];
+        for (unsigned int t = 0; t < n_traction_values; ++t)
+          reference_gradient[t] += row[t] * w[i];
+        constant += y[i] * w[i];
+      }
+    TractionVector gradient;
     for (unsigned int i = 0; i < n_traction_values; ++i)
       {
         const unsigned int corner = i / dim, a = i % dim;
@@ -490,7 +532,7 @@ namespace Signorini
         gradient[i] =
           value * geometry.face_ratio[corner / dim] / geometry.determinant;
       }
-    return {gradient, (y * w) / geometry.determinant};
+    return {gradient, constant / geometry.determinant};
   }
 
 

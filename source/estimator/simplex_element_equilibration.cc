@@ -1426,8 +1426,7 @@ namespace Signorini
             if (needed[cell])
               {
                 const EquilibratedCell<dim> data(context, cell);
-                const FullMatrix<double>    hessian =
-                  element.hessian(data.geometry);
+                const auto hessian = element.hessian(data.geometry);
                 const SymmetricTensor<2, dim> admissible =
                   context.input.material.stress(
                     context.strains.admissible_strain[cell]);
@@ -1445,7 +1444,7 @@ namespace Signorini
                     const unsigned int t = data.traction_index[a];
                     for (unsigned int b = 0; b < n; ++b)
                       full(a, b) = data.sign[a] * data.sign[b] *
-                                   hessian(t, data.traction_index[b]);
+                                   hessian[t * n + data.traction_index[b]];
                     quadratics.gradient[cell][a] =
                       data.sign[a] * difference.first[t];
                     quadratics.sum_gradient[cell][a] =

@@ -11,6 +11,8 @@
 #include <signorini/material.h>
 
 #include <array>
+#include <utility>
+#include <vector>
 
 namespace Signorini
 {
@@ -156,17 +158,22 @@ namespace Signorini
            const Field                   &field,
            const SymmetricTensor<2, dim> &tau) const;
 
+    /// A vector of traction values, and a matrix on them (row major).
+    using TractionVector = std::array<double, n_traction_values>;
+    using TractionMatrix =
+      std::array<double, n_traction_values * n_traction_values>;
+
     /**
      * The energy of energy() as a quadratic function of the traction values
      * t (traction_index() order) for the body force @p body_force and the
-     * constant stress @p tau: t^T H t + 2 g^T t + c. hessian() gives H
-     * (n_traction_values^2), linear_part() g and c.
+     * constant stress @p tau: t^T H t + 2 g^T t + c. hessian() gives H,
+     * linear_part() g and c.
      */
-    FullMatrix<double>
+    TractionMatrix
     hessian(const Geometry &geometry) const;
 
     /// g and c of hessian()'s quadratic.
-    std::pair<Vector<double>, double>
+    std::pair<TractionVector, double>
     linear_part(const Geometry                &geometry,
                 const BodyForce               &body_force,
                 const SymmetricTensor<2, dim> &tau) const;
@@ -203,34 +210,39 @@ namespace Signorini
                       const BodyForce &body_force);
 
   private:
-    /// The reference maps: the coefficients of sigma^ per unit reference
-    /// traction value (n_coefficients x n_traction_values) and per unit
-    /// reference body force component (n_coefficients x n_vertices dim).
-    FullMatrix<double> traction_map, body_force_map;
+    /// Reference coefficients, and a matrix on unrolled components (row
+    /// major).
+    using Coefficients    = std::array<double, n_coefficients>;
+    using ComponentMatrix = std::array<double, n_components * n_components>;
+
+    /// The reference maps (row major): the coefficients of sigma^ per unit
+    /// reference traction value (n_coefficients x n_traction_values) and per
+    /// unit reference body force component (n_coefficients x n_vertices
+    /// dim).
+    std::vector<double> traction_map, body_force_map;
     /**
      * P_t^T (M^ (x) E_ab) P_t for the pairs a <= b of components, P_t =
      * traction_map, M^ the P1 mass matrices of the reference sub-simplices
      * and E_ab the symmetric unit matrix: H of a simplex is T^T (sum_ab C^_ab
      * G_ab) T / |det B|, C^ its compliance in reference components.
      */
-    std::vector<FullMatrix<double>> hessian_parts;
+    std::vector<TractionMatrix> hessian_parts;
     /// K^-1 on unrolled components: sigma : K^-1 tau = s^T S t.
-    FullMatrix<double> compliance;
+    ComponentMatrix compliance;
 
     /// C^ = Pi^T S Pi (Pi: sigma^ -> B sigma^ B^T on unrolled components).
-    FullMatrix<double>
+    ComponentMatrix
     reference_compliance(const Geometry &geometry) const;
 
     /// The reference coefficients of a field from reference data.
-    Vector<double>
+    Coefficients
     reference_coefficients(const Geometry  &geometry,
                            const Traction  &traction,
                            const BodyForce &body_force) const;
 
-    /// M^ (x) C^ applied to reference coefficients @p x.
-    Vector<double>
-    weighted(const FullMatrix<double> &reference_compliance,
-             const Vector<double>     &x) const;
+    /// M^ (x) C applied to reference coefficients @p x.
+    Coefficients
+    weighted(const ComponentMatrix &compliance, const Coefficients &x) const;
   };
 } // namespace Signorini
 
