@@ -6,12 +6,14 @@
 
 #include <signorini/input_error.h>
 
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
 #include <tuple>
 #include <type_traits>
 #include <typeindex>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -34,6 +36,16 @@ namespace Signorini
                     std::declval<ParameterHandler &>())),
                   decltype(std::declval<T &>().parse_parameters(
                     std::declval<ParameterHandler &>()))>> : std::true_type
+    {};
+
+    /// T::is_implemented where T declares it, true otherwise.
+    template <typename T, typename = void>
+    struct IsImplemented : std::true_type
+    {};
+
+    template <typename T>
+    struct IsImplemented<T, std::void_t<decltype(T::is_implemented)>>
+      : std::bool_constant<T::is_implemented>
     {};
 
     /// "'a' (x), 'b' (y) or 'c' (z)": the choices of a help string.
@@ -139,10 +151,18 @@ namespace Signorini
    * member the parameter file names (with its parameters parsed), and gives
    * an object its name back (name_of(), which the family's name() calls).
    *
-   * The first member registered is the default. A member registered by
-   * add<T>() is constructed from @p Args and, if it has parameters,
-   * provides static declare_parameters(ParameterHandler &) and
-   * parse_parameters(ParameterHandler &), each entering its own section
+   * The family's base owns the registry, a function-local static of its
+   * static registry() (constructed on first use, so that registrations from
+   * any translation unit find it constructed), and names none of its
+   * members: each member registers itself in its own .cc file with
+   * SIGNORINI_REGISTER() or SIGNORINI_REGISTER_TEMPLATE(), as ASPECT's
+   * plugins do. Static initialisation runs these in an unspecified order
+   * across files, so every member has a rank: the choices are listed by
+   * rank, and the lowest is the default.
+   *
+   * A member registered by add<T>() is constructed from @p Args and, if it
+   * has parameters, provides static declare_parameters(ParameterHandler &)
+   * and parse_parameters(ParameterHandler &), each entering its own section
    * (so the family's base class must not have members of these names);
    * add() with explicit functions covers other construction schemes.
    */
@@ -155,56 +175,92 @@ namespace Signorini
       std::function<std::unique_ptr<Base>(ParameterHandler &, Args...)>;
     /// Declare a member's parameters (entering its own section).
     using Declarer = std::function<void(ParameterHandler &)>;
+    /// The InputError message for choosing the member named by its argument
+    /// where it is not implemented.
+    using Refusal = std::function<std::string(const std::string &)>;
 
     /**
      * The family chosen by entry @p entry of section @p section; the help
      * string of the entry is "@p help: 'a' (description of a) or ...".
+     * @p refusal words the choice of a member not implemented in this
+     * instantiation (see add<T>()).
      */
-    Registry(std::string section, std::string entry, std::string help)
+    Registry(std::string section,
+             std::string entry,
+             std::string help,
+             Refusal     refusal = {})
       : section(std::move(section))
       , entry(std::move(entry))
       , help(std::move(help))
+      , refusal(std::move(refusal))
     {}
 
-    /// Register @p T under @p name, described by @p description in the help.
+    /**
+     * Register @p T under @p name, described by @p description in the help,
+     * at position @p rank among the choices. A member whose static
+     * is_implemented is false (in this instantiation) keeps its name and
+     * parameters, so that a parameter file reads the same, but choosing it
+     * is an InputError worded by the family's refusal.
+     */
     template <typename T>
     Registry &
-    add(const std::string &name, const std::string &description)
+    add(const unsigned int rank,
+        const std::string &name,
+        const std::string &description)
     {
       static_assert(std::is_base_of_v<Base, T>, "not a member of the family");
       Declarer declare;
       if constexpr (internal::HasParameters<T>::value)
         declare = [](ParameterHandler &prm) { T::declare_parameters(prm); };
-      return add(
-        name,
-        description,
-        typeid(T),
-        [](ParameterHandler &prm, Args... args) -> std::unique_ptr<Base> {
+      Creator create;
+      if constexpr (internal::IsImplemented<T>::value)
+        create = [](ParameterHandler &prm,
+                    Args... args) -> std::unique_ptr<Base> {
           auto member = std::make_unique<T>(args...);
           if constexpr (internal::HasParameters<T>::value)
             member->parse_parameters(prm);
           return member;
-        },
-        declare);
+        };
+      else
+        {
+          AssertThrow(refusal,
+                      ExcMessage("no refusal for the unimplemented " + name));
+          create = [message = refusal(name)](ParameterHandler &,
+                                             Args...) -> std::unique_ptr<Base> {
+            throw InputError(message);
+          };
+        }
+      return add(rank, name, description, typeid(T), create, declare);
     }
 
-    /// Register the member of dynamic type @p type with its own creation
-    /// and declaration functions (@p declare may be empty: no parameters).
+    /// Register the member of dynamic type @p type at position @p rank with
+    /// its own creation and declaration functions (@p declare may be empty:
+    /// no parameters).
     Registry &
-    add(const std::string    &name,
+    add(const unsigned int    rank,
+        const std::string    &name,
         const std::string    &description,
         const std::type_index type,
         Creator               create,
         Declarer              declare)
     {
       for (const auto &member : members)
-        AssertThrow(member.name != name && member.type != type,
-                    ExcMessage("registered twice: " + name));
-      members.push_back({name, description, type, create, declare});
+        {
+          AssertThrow(member.name != name && member.type != type,
+                      ExcMessage("registered twice: " + name));
+          AssertThrow(member.rank != rank,
+                      ExcMessage(name + " and " + member.name +
+                                 " have the same rank"));
+        }
+      const auto later =
+        std::find_if(members.begin(), members.end(), [rank](const Member &m) {
+          return m.rank > rank;
+        });
+      members.insert(later, {rank, name, description, type, create, declare});
       return *this;
     }
 
-    /// "a|b|c" for Patterns::Selection, in the order of registration.
+    /// "a|b|c" for Patterns::Selection, in the order of the ranks.
     std::string
     selection() const
     {
@@ -277,6 +333,8 @@ namespace Signorini
     /// A registered member.
     struct Member
     {
+      /// Its position among the choices.
+      unsigned int rank;
       /// Its value of the selection entry.
       std::string name;
       /// Its part of the help string.
@@ -295,9 +353,51 @@ namespace Signorini
     std::string entry;
     /// Beginning of its help string.
     std::string help;
-    /// The members, the default first.
+    /// See the constructor.
+    Refusal refusal;
+    /// The members by rank, the default first.
     std::vector<Member> members;
   };
+
+
+
+  /**
+   * Adds the member @p T to the registry of its family @p Base when
+   * constructed: the registration of a member is a namespace-scope object
+   * in the member's .cc file (see SIGNORINI_REGISTER()), constructed during
+   * static initialisation, like ASPECT's RegisterHelper.
+   */
+  template <typename Base, typename T>
+  struct Registration
+  {
+    /// Register @p T as @p name at position @p rank (see Registry::add()).
+    Registration(const unsigned int rank,
+                 const std::string &name,
+                 const std::string &description)
+    {
+      Base::registry().template add<T>(rank, name, description);
+    }
+  };
 } // namespace Signorini
+
+/**
+ * Register the class @p member in the family of the class @p family as
+ * @p name at position @p rank among the choices (the lowest: the default),
+ * described by @p description in the help: in the member's .cc file, inside
+ * namespace Signorini.
+ */
+#define SIGNORINI_REGISTER(family, member, rank, name, description) \
+  static const ::Signorini::Registration<family, member>            \
+    member##_registration(rank, name, description)
+
+/**
+ * SIGNORINI_REGISTER() for the class templates @p family<dim> and
+ * @p member<dim>, in dimensions 2 and 3.
+ */
+#define SIGNORINI_REGISTER_TEMPLATE(family, member, rank, name, description) \
+  static const ::Signorini::Registration<family<2>, member<2>>               \
+    member##_registration_2d(rank, name, description);                       \
+  static const ::Signorini::Registration<family<3>, member<3>>               \
+    member##_registration_3d(rank, name, description)
 
 #endif

@@ -73,4 +73,12 @@ namespace Signorini
                          std::vector<double>(n, 1.),
                          dim);
   }
+
+
+
+  SIGNORINI_REGISTER(SizePredictor,
+                     FixedFractionPredictor,
+                     2,
+                     "fixed fraction",
+                     "halve the elements holding a fixed share of eps^2");
 } // namespace Signorini

@@ -273,4 +273,12 @@ namespace Signorini
       }
     return best;
   }
+
+
+
+  SIGNORINI_REGISTER(SizePredictor,
+                     OptimalSizePredictor,
+                     1,
+                     "optimal size",
+                     "the optimal size map for eps_0 of the paper's section 6");
 } // namespace Signorini

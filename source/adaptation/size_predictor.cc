@@ -1,7 +1,4 @@
-#include <signorini/adaptation/fixed_fraction.h>
-#include <signorini/adaptation/optimal_size.h>
 #include <signorini/adaptation/size_predictor.h>
-#include <signorini/adaptation/uniform_refinement.h>
 
 #include <cmath>
 
@@ -44,22 +41,14 @@ namespace Signorini
 
 
 
-  const Registry<SizePredictor, unsigned int> &
+  Registry<SizePredictor, unsigned int> &
   SizePredictor::registry()
   {
-    static const Registry<SizePredictor, unsigned int> predictors = [] {
-      Registry<SizePredictor, unsigned int> family(
-        "Mesh adaptation",
-        "Strategy",
-        "How the next mesh follows from eps_E (doc/adaptation.md)");
-      family.add<UniformRefinement>("uniform", "halve every element");
-      family.add<OptimalSizePredictor>(
-        "optimal size",
-        "the optimal size map for eps_0 of the paper's section 6");
-      family.add<FixedFractionPredictor>(
-        "fixed fraction", "halve the elements holding a fixed share of eps^2");
-      return family;
-    }();
+    // the predictors register themselves in their own files
+    static Registry<SizePredictor, unsigned int> predictors(
+      "Mesh adaptation",
+      "Strategy",
+      "How the next mesh follows from eps_E (doc/adaptation.md)");
     return predictors;
   }
 

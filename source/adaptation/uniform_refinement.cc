@@ -39,4 +39,12 @@ namespace Signorini
                          std::vector<double>(n, 1.),
                          dim);
   }
+
+
+
+  SIGNORINI_REGISTER(SizePredictor,
+                     UniformRefinement,
+                     0,
+                     "uniform",
+                     "halve every element");
 } // namespace Signorini

@@ -222,4 +222,11 @@ namespace Signorini
 
   template class ActiveSetSolver<2>;
   template class ActiveSetSolver<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(
+    ContactSolver,
+    ActiveSetSolver,
+    0,
+    "active set",
+    "primal-dual active set method, doc/theory.md section 3");
 } // namespace Signorini

@@ -2,24 +2,16 @@
 #include <deal.II/lac/sparse_direct.h>
 
 #include <signorini/contact/condition.h>
-#include <signorini/contact/integral_condition.h>
-#include <signorini/contact/pointwise_condition.h>
 
 namespace Signorini
 {
   template <int dim>
-  const Registry<ContactCondition<dim>> &
+  Registry<ContactCondition<dim>> &
   ContactCondition<dim>::registry()
   {
-    static const Registry<ContactCondition<dim>> conditions = [] {
-      Registry<ContactCondition<dim>> family(
-        "Contact", "Condition", "Discrete non-penetration condition");
-      family.template add<IntegralCondition<dim>>("integral",
-                                                  "M q_N <= ghat, [16]");
-      family.template add<PointwiseCondition<dim>>("pointwise",
-                                                   "q_N <= G, [17]");
-      return family;
-    }();
+    // the conditions register themselves in their own files
+    static Registry<ContactCondition<dim>> conditions(
+      "Contact", "Condition", "Discrete non-penetration condition");
     return conditions;
   }
 

@@ -330,4 +330,11 @@ namespace Signorini
 
   template class FrankWolfeSolver<2>;
   template class FrankWolfeSolver<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(ContactSolver,
+                              FrankWolfeSolver,
+                              1,
+                              "Frank-Wolfe",
+                              "on the dual problems [23], [24] as in the "
+                              "paper, doc/theory.md section 4");
 } // namespace Signorini

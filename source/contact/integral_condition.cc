@@ -71,4 +71,10 @@ namespace Signorini
 
   template class IntegralCondition<2>;
   template class IntegralCondition<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(ContactCondition,
+                              IntegralCondition,
+                              0,
+                              "integral",
+                              "M q_N <= ghat, [16]");
 } // namespace Signorini

@@ -161,4 +161,10 @@ namespace Signorini
 
   template class PointwiseCondition<2>;
   template class PointwiseCondition<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(ContactCondition,
+                              PointwiseCondition,
+                              1,
+                              "pointwise",
+                              "q_N <= G, [17]");
 } // namespace Signorini

@@ -1,24 +1,14 @@
-#include <signorini/contact/active_set_solver.h>
-#include <signorini/contact/frank_wolfe_solver.h>
 #include <signorini/contact/solver.h>
 
 namespace Signorini
 {
   template <int dim>
-  const Registry<ContactSolver<dim>> &
+  Registry<ContactSolver<dim>> &
   ContactSolver<dim>::registry()
   {
-    static const Registry<ContactSolver<dim>> solvers = [] {
-      Registry<ContactSolver<dim>> family(
-        "Contact", "Solver", "Algorithm for the discrete contact problem");
-      family.template add<ActiveSetSolver<dim>>(
-        "active set", "primal-dual active set method, doc/theory.md section 3");
-      family.template add<FrankWolfeSolver<dim>>(
-        "Frank-Wolfe",
-        "on the dual problems [23], [24] as in the paper, doc/theory.md "
-        "section 4");
-      return family;
-    }();
+    // the solvers register themselves in their own files
+    static Registry<ContactSolver<dim>> solvers(
+      "Contact", "Solver", "Algorithm for the discrete contact problem");
     return solvers;
   }
 

@@ -1858,6 +1858,8 @@ namespace Signorini
   void
   ElementEquilibration<dim>::declare_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Error estimator");
+    prm.enter_subsection("Element equilibration");
     prm.declare_entry("Local degree",
                       "3",
                       Patterns::Integer(2, 6),
@@ -1921,25 +1923,31 @@ namespace Signorini
                       "implementation written for tetrahedra (edge or vertex "
                       "patches, displacement element problems): a cross-check "
                       "of the two.");
+    prm.leave_subsection();
+    prm.leave_subsection();
   }
 
 
 
   template <int dim>
-  ElementEquilibration<dim>::ElementEquilibration(ParameterHandler &prm)
-    : local_degree(prm.get_integer("Local degree"))
-    , traction_densities(
-        traction_densities_names<dim>().value(prm.get("Traction densities")))
-    , element_stress(
-        element_stress_names<dim>().value(prm.get("Element stress")))
-    , enhancement_iterations(prm.get_integer("Enhancement iterations"))
-    , enhancement_tolerance(prm.get_double("Enhancement tolerance"))
-    , enhancement_regions{static_cast<unsigned int>(
-                            prm.get_integer("Enhancement regions")),
-                          static_cast<unsigned int>(
-                            prm.get_integer("Enhancement region rings"))}
-    , simplex_implementation(prm.get_bool("Simplex implementation"))
+  void
+  ElementEquilibration<dim>::parse_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Error estimator");
+    prm.enter_subsection("Element equilibration");
+    local_degree = prm.get_integer("Local degree");
+    traction_densities =
+      traction_densities_names<dim>().value(prm.get("Traction densities"));
+    element_stress =
+      element_stress_names<dim>().value(prm.get("Element stress"));
+    enhancement_iterations    = prm.get_integer("Enhancement iterations");
+    enhancement_tolerance     = prm.get_double("Enhancement tolerance");
+    enhancement_regions.count = prm.get_integer("Enhancement regions");
+    enhancement_regions.rings = prm.get_integer("Enhancement region rings");
+    simplex_implementation    = prm.get_bool("Simplex implementation");
+    prm.leave_subsection();
+    prm.leave_subsection();
+
     if (simplex_implementation &&
         traction_densities == TractionDensities::minimised)
       throw InputError(
@@ -2126,4 +2134,13 @@ namespace Signorini
 
   template class ElementEquilibration<2>;
   template class ElementEquilibration<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(
+    StressReconstruction,
+    ElementEquilibration,
+    0,
+    "element equilibration",
+    "traction densities and element fields: by default enhanced densities "
+    "and exactly equilibrated fields, a guaranteed bound; the paper's "
+    "technique [LAD 91] with least squares densities and displacement fields");
 } // namespace Signorini

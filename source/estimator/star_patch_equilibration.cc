@@ -1067,6 +1067,8 @@ namespace Signorini
   void
   StarPatchEquilibration<dim>::declare_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Error estimator");
+    prm.enter_subsection("Star patch");
     prm.declare_entry("Local degree",
                       "2",
                       Patterns::Integer(2, 6),
@@ -1081,15 +1083,23 @@ namespace Signorini
                       "Lagrange elements, as on tetrahedra, instead of the "
                       "written-out basis: the same estimate, slower (a "
                       "cross-check of the two implementations).");
+    prm.leave_subsection();
+    prm.leave_subsection();
   }
 
 
 
   template <int dim>
-  StarPatchEquilibration<dim>::StarPatchEquilibration(ParameterHandler &prm)
-    : local_degree(prm.get_integer("Local degree"))
-    , lagrange_elements(dim == 3 || prm.get_bool("Lagrange elements"))
+  void
+  StarPatchEquilibration<dim>::parse_parameters(ParameterHandler &prm)
   {
+    prm.enter_subsection("Error estimator");
+    prm.enter_subsection("Star patch");
+    local_degree      = prm.get_integer("Local degree");
+    lagrange_elements = (dim == 3 || prm.get_bool("Lagrange elements"));
+    prm.leave_subsection();
+    prm.leave_subsection();
+
     // deal.II 9.4's FE_SimplexP fails on tetrahedra beyond degree 2, and
     // up to degree 3 on triangles
     const unsigned int highest = (dim == 3) ? 2 : 3;
@@ -1214,4 +1224,10 @@ namespace Signorini
 
   template class StarPatchEquilibration<2>;
   template class StarPatchEquilibration<3>;
+
+  SIGNORINI_REGISTER_TEMPLATE(StressReconstruction,
+                              StarPatchEquilibration,
+                              1,
+                              "star patch",
+                              "flux-free vertex-patch problems");
 } // namespace Signorini

@@ -70,8 +70,9 @@ namespace Signorini
     virtual ~SizePredictor() = default;
 
     /// The predictors, chosen by Mesh adaptation/Strategy; each is
-    /// constructed from the space dimension.
-    static const Registry<SizePredictor, unsigned int> &
+    /// constructed from the space dimension and registers itself
+    /// (SIGNORINI_REGISTER()).
+    static Registry<SizePredictor, unsigned int> &
     registry();
 
     /// The name the predictor is chosen by.

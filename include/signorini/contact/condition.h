@@ -68,8 +68,9 @@ namespace Signorini
   public:
     virtual ~ContactCondition() = default;
 
-    /// The conditions, chosen by Contact/Condition.
-    static const Registry<ContactCondition<dim>> &
+    /// The conditions, chosen by Contact/Condition; each registers itself
+    /// (SIGNORINI_REGISTER_TEMPLATE()).
+    static Registry<ContactCondition<dim>> &
     registry();
 
     /// The name the condition is chosen by.

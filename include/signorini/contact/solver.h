@@ -43,8 +43,9 @@ namespace Signorini
 
     virtual ~ContactSolver() = default;
 
-    /// The solvers, chosen by Contact/Solver.
-    static const Registry<ContactSolver<dim>> &
+    /// The solvers, chosen by Contact/Solver; each registers itself
+    /// (SIGNORINI_REGISTER_TEMPLATE()).
+    static Registry<ContactSolver<dim>> &
     registry();
 
     /// The name the solver is chosen by.

@@ -65,12 +65,15 @@ namespace Signorini
       equilibrated
     };
 
-    /// "Local degree", "Traction densities", "Element stress" and the
-    /// enhancement's, in the current subsection
+    /// Section Error estimator/Element equilibration: "Local degree",
+    /// "Traction densities", "Element stress" and the enhancement's.
     static void
     declare_parameters(ParameterHandler &prm);
 
     /**
+     * Read section Error estimator/Element equilibration; throws InputError
+     * for a combination the implementation does not cover.
+     *
      * With "Traction densities = minimised" the free parameters of the
      * patch systems are not chosen by least squares towards the averaged FE
      * tractions but so as to minimise sum_E ||sigma^ - K eps(U^)||^2_E over
@@ -78,7 +81,8 @@ namespace Signorini
      * system solved by CG); the equilibrium and prolongation conditions hold
      * either way.
      */
-    explicit ElementEquilibration(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
 
     /// The steps 0 to 3 above; see StressReconstruction::compute().
     void
@@ -92,23 +96,24 @@ namespace Signorini
     condition() const override;
 
   private:
+    // (the defaults of the parameters until parse_parameters())
     /// p + k, the degree of the element problems.
-    unsigned int local_degree;
+    unsigned int local_degree = 3;
     /// How the free parameters of the densities are chosen: least squares,
     /// or minimising the error ("Traction densities = minimised").
-    TractionDensities traction_densities;
+    TractionDensities traction_densities = TractionDensities::enhanced;
     /// How sigma^ is built on each element ("Element stress").
-    ElementStress element_stress;
+    ElementStress element_stress = ElementStress::equilibrated;
     /// The iterations of the enhanced densities ("Enhancement iterations").
-    unsigned int enhancement_iterations;
+    unsigned int enhancement_iterations = (dim == 2) ? 50 : 300;
     /// Its stopping tolerance ("Enhancement tolerance").
-    double enhancement_tolerance;
+    double enhancement_tolerance = (dim == 2) ? 1e-4 : 1e-7;
     /// The regions its preconditioner solves at once ("Enhancement regions",
     /// "Enhancement region rings").
-    DensityEnhancement::RegionSettings enhancement_regions;
+    DensityEnhancement::RegionSettings enhancement_regions{3, 6};
     /// Whether triangles are computed by compute_on_simplices() too
     /// ("Simplex implementation").
-    bool simplex_implementation;
+    bool simplex_implementation = false;
 
     /// The steps with compute_simplex_element_equilibration() (tetrahedra,
     /// and triangles with "Simplex implementation").

@@ -57,12 +57,15 @@ namespace Signorini
     /// compute() is implemented in 2D and 3D.
     static constexpr bool is_implemented = true;
 
-    /// "Local degree" and "Lagrange elements", in the current subsection
+    /// Section Error estimator/Star patch: "Local degree" and "Lagrange
+    /// elements".
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Read them in the current subsection.
-    explicit StarPatchEquilibration(ParameterHandler &prm);
+    /// Read section Error estimator/Star patch; throws InputError for a
+    /// degree the elements do not reach.
+    void
+    parse_parameters(ParameterHandler &prm);
 
     /// The steps above; see StressReconstruction::compute().
     void
@@ -83,10 +86,11 @@ namespace Signorini
                                    Vector<double>   &error_squared,
                                    Vector<double>   &sum_squared);
 
+    // (the defaults of the parameters until parse_parameters())
     /// The degree of the patch problems.
-    unsigned int local_degree;
+    unsigned int local_degree = 2;
     /// Whether compute() uses compute_lagrange_star_patch() (always in 3D).
-    bool lagrange_elements;
+    bool lagrange_elements = (dim == 3);
   };
 
   /// In 3D: compute_lagrange_star_patch().

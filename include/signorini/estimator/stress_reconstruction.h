@@ -65,8 +65,9 @@ namespace Signorini
   public:
     virtual ~StressReconstruction() = default;
 
-    /// The reconstructions, chosen by Error estimator/Stress reconstruction.
-    static const Registry<StressReconstruction<dim>> &
+    /// The reconstructions, chosen by Error estimator/Stress reconstruction;
+    /// each registers itself (SIGNORINI_REGISTER_TEMPLATE()).
+    static Registry<StressReconstruction<dim>> &
     registry();
 
     /// The name the reconstruction is chosen by.
