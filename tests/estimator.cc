@@ -16,8 +16,6 @@
 // - star patch: the effectivity index is in [1, 2] on every mesh, the patch
 //   problems are solved with data in equilibrium and the FE equilibrium
 //   R(phi_i) = 0 they rely on holds, to round-off;
-// - the star patch computed with deal.II's Lagrange elements (its
-//   implementation on tetrahedra) gives the written-out one's eps;
 // - sum_E eps_E^2 = eps^2 [11] to round-off;
 // - the contact term is non-negative on every element (the number of
 //   elements where it is non-zero is compared with the reference output);
@@ -234,36 +232,6 @@ main(int argc, char **argv)
                       m.history.at("e")[i] / m.history.at("energy_error")[i],
                       failures);
     }
-  // the star patch computed with deal.II's Lagrange elements (as on
-  // tetrahedra) is the written-out one: the same space, another basis
-  {
-    deallog << "--- block, star patch with Lagrange elements" << std::endl;
-    const std::map<std::string, std::string> star = {
-      {"Error estimator/Stress reconstruction", "star patch"},
-      {"Number of cycles", "2"}};
-    auto lagrange = star;
-    lagrange.insert({"Error estimator/Star patch/Lagrange elements", "true"});
-    const Estimate written    = estimate("block.prm", star);
-    const Estimate generic    = estimate("block.prm", lagrange);
-    double         difference = 0.;
-    for (unsigned int i = 0; i < written.history.at("eps").size(); ++i)
-      difference = std::max(difference,
-                            std::abs(generic.history.at("eps")[i] /
-                                       written.history.at("eps")[i] -
-                                     1.));
-    expect_below("eps the same as the written-out star patch's (relative)",
-                 difference,
-                 1e-9,
-                 failures);
-    expect_below("FE equilibrium R(phi_i) = 0",
-                 generic.result.condition_defect,
-                 1e-10,
-                 failures);
-    expect_below("equilibrium of the patch data",
-                 generic.result.equilibrium_defect,
-                 1e-10,
-                 failures);
-  }
   // the regions of the enhancement's preconditioner around singular points
   // (DensityEnhancement::RegionCorrection) take it closer to the minimum of
   // J than the vertex patches alone at the same tolerance (fewer

@@ -33,10 +33,7 @@ namespace Signorini
    * the Dirichlet components. Each patch matrix is assembled from the cells
    * and factorised densely (a Cholesky factor, after the rigid motions the
    * Dirichlet nodes leave free, on which the data vanish, are made definite
-   * without changing the solution). Written for 3D, where it is the only
-   * reconstruction; in 2D it computes what the triangle-specific
-   * StarPatchEquilibration computes (the same space, another basis), which
-   * tests/estimator checks.
+   * without changing the solution).
    *
    * Fills @p error_squared and @p sum_squared as
    * StressReconstruction::compute() does (the cells this rank owns), on a

@@ -8,7 +8,7 @@ namespace Signorini
   /**
    * The star-patch (flux-free) construction of sigma^ (Cottereau, Diez and
    * Huerta 2009; Pares, Diez and Huerta 2006; called SPET by Pled, Chamoin
-   * and Ladeveze 2011; doc/theory.md section 7) for P1 triangles. With
+   * and Ladeveze 2011; doc/theory.md section 7) for P1 simplices. With
    * R(v) = int f_d . v + int_G2 F_d . v + int_GC R^ . v -
    * int sigma_h : eps(v) the residual of the finite element solution (zero
    * on the finite element space: sigma_h is in FE equilibrium with the
@@ -33,22 +33,11 @@ namespace Signorini
    * densities of the EET, which is what brings the effectivity closer to
    * one (doc/estimator.md).
    *
-   * V_i uses a hierarchical basis (vertex functions lambda_a, edge
-   * functions lambda_a lambda_b (lambda_b - lambda_a)^m oriented by the
-   * global vertex numbers, interior bubbles): the P1 interpolant of its
-   * higher-order functions is zero and that of a vertex function is itself,
-   * so the data are R(phi_i psi) on the higher-order functions and zero on
-   * the vertex functions.
-   *
-   * compute() runs the steps: per cell sigma_h, U~_h -/+ U^ and f_d, per
-   * boundary edge F_d + R^; the patch problems (on the worker threads); per
-   * cell ||sigma^ -/+ K eps(U^)||^2_E, the terms of e [14], eps [9] and
-   * eps_E [10].
-   *
-   * Written out for triangles; on tetrahedra compute() runs the same
-   * construction with deal.II's Lagrange elements
-   * (compute_lagrange_star_patch(), "Local degree" 2), and so on triangles
-   * with "Lagrange elements" = true (a cross-check).
+   * The patch problems are solved with deal.II's Lagrange elements on
+   * triangles and tetrahedra alike (compute_lagrange_star_patch(): FE_SimplexP
+   * of degree "Local degree" on the cells around vertex i, zero at the nodes
+   * of the Dirichlet components, one dense Cholesky factor per patch); then,
+   * per cell, ||sigma^ -/+ K eps(U^)||^2_E, the terms of e [14].
    */
   template <int dim>
   class StarPatchEquilibration : public StressReconstruction<dim>
@@ -57,8 +46,7 @@ namespace Signorini
     /// compute() is implemented in 2D and 3D.
     static constexpr bool is_implemented = true;
 
-    /// Section Error estimator/Star patch: "Local degree" and "Lagrange
-    /// elements".
+    /// Section Error estimator/Star patch: "Local degree".
     static void
     declare_parameters(ParameterHandler &prm);
 
@@ -79,27 +67,10 @@ namespace Signorini
     condition() const override;
 
   private:
-    /// compute() by compute_lagrange_star_patch().
-    void
-    compute_with_lagrange_elements(const EquilibrationInput<dim> &input,
-                                   const LA::Vector &admissible_displacement,
-                                   Vector<double>   &error_squared,
-                                   Vector<double>   &sum_squared);
-
-    // (the defaults of the parameters until parse_parameters())
-    /// The degree of the patch problems.
+    /// The degree of the patch problems (its default until
+    /// parse_parameters()).
     unsigned int local_degree = 2;
-    /// Whether compute() uses compute_lagrange_star_patch() (always in 3D).
-    bool lagrange_elements = (dim == 3);
   };
-
-  /// In 3D: compute_lagrange_star_patch().
-  template <>
-  void
-  StarPatchEquilibration<3>::compute(const EquilibrationInput<3> &input,
-                                     const LA::Vector &admissible_displacement,
-                                     Vector<double>   &error_squared,
-                                     Vector<double>   &sum_squared);
 } // namespace Signorini
 
 #endif
