@@ -150,7 +150,12 @@ namespace Signorini
     // displacement S L / E it causes: the solve and its checks square
     // forces and displacements (norms, energies), so beyond 1e+-140 they
     // underflow or overflow although each datum may look harmless
-    const double diameter = GridTools::diameter(mesh);
+    // (L: the diagonal of the bounding box, the diameter to a factor
+    // sqrt(dim) at most, in one pass over the vertices, where
+    // GridTools::diameter() compares the boundary vertices pairwise)
+    const auto corners =
+      GridTools::compute_bounding_box(mesh).get_boundary_points();
+    const double diameter = corners.first.distance(corners.second);
     const double young    = std::abs(material_law.young_modulus);
     // (in decimal exponents: S itself may not be a double; log10(0) = -inf
     // drops a datum that is zero)

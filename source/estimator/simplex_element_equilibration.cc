@@ -757,20 +757,20 @@ namespace Signorini
       return system;
     }
 
-    /// The element's densities (slot values) from the vector of all.
+    /// The element's densities (slot values) from the vector of all, into
+    /// @p values (of size n_element_values: no allocation in the loops).
     template <int dim>
-    Vector<double>
+    void
     element_densities(const SimplexMesh<dim>    &mesh,
                       const unsigned int         cell,
-                      const std::vector<double> &densities)
+                      const std::vector<double> &densities,
+                      Vector<double>            &values)
     {
-      Vector<double> values(n_element_values<dim>);
       for (unsigned int f = 0; f <= dim; ++f)
         for (unsigned int k = 0; k < dim; ++k)
           for (unsigned int c = 0; c < dim; ++c)
             values[(f * dim + k) * dim + c] =
               densities[slot<dim>(mesh.cell_faces[cell][f], k, c)];
-      return values;
     }
 
     /**
@@ -1666,6 +1666,7 @@ namespace Signorini
           0u,
           n_cells,
           [&](const unsigned int begin, const unsigned int end) {
+            Vector<double> d(n_element_values<dim>);
             for (unsigned int cell = begin; cell < end; ++cell)
               if (mesh.owned[cell])
                 {
@@ -1674,8 +1675,8 @@ namespace Signorini
                     product = gradient[cell];
                   else
                     product.reinit(n_element_values<dim>);
-                  hessian[cell].vmult_add(product,
-                                          element_densities(mesh, cell, x));
+                  element_densities(mesh, cell, x, d);
+                  hessian[cell].vmult_add(product, d);
                 }
           },
           64);
@@ -1789,13 +1790,13 @@ namespace Signorini
         0u,
         n_cells,
         [&](const unsigned int begin, const unsigned int end) {
-          double range_defect = 0.;
+          double         range_defect = 0.;
+          Vector<double> d(n_element_values<dim>);
           for (unsigned int cell = begin; cell < end; ++cell)
             if (mesh.owned[cell])
               {
                 const CellGeometry<dim> geometry(mesh, cell);
-                const Vector<double>    d =
-                  element_densities(mesh, cell, densities);
+                element_densities(mesh, cell, densities, d);
                 if (element != nullptr)
                   {
                     const EquilibratedCell<dim> data(context, cell);
