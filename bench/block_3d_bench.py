@@ -21,14 +21,13 @@ import csv
 import os
 import re
 import statistics
-import subprocess
 import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
-from contact_bench import write_case  # noqa: E402
+from contact_bench import run_logged, write_case  # noqa: E402
 
 
 def run(exe, ranks, overrides, work):
@@ -39,15 +38,8 @@ def run(exe, ranks, overrides, work):
     if ranks > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
                    str(ranks)] + command
-    with tempfile.TemporaryFile(mode="w+") as log:
-        process = subprocess.Popen(command, stdout=log,
-                                   stderr=subprocess.STDOUT, text=True)
-        # (the rusage of mpirun includes the ranks it waited for: the peak
-        # is that of the largest rank)
-        _, status, usage = os.wait4(process.pid, 0)
-        log.seek(0)
-        output = log.read()
-    if os.waitstatus_to_exitcode(status) != 0:
+    output, code, peak = run_logged(command)
+    if code != 0:
         sys.exit(f"{command} failed:\n{output}")
     stages = {}
     for line in output.splitlines():
@@ -56,7 +48,7 @@ def run(exe, ranks, overrides, work):
             stages[match.group(1)] = float(match.group(2))
     with open(os.path.join(out, "statistics.csv")) as f:
         row = list(csv.DictReader(f))[-1]
-    return row, stages, usage.ru_maxrss / 1024.
+    return row, stages, peak
 
 
 def main():

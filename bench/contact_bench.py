@@ -48,6 +48,18 @@ def write_case(example, overrides, workdir):
     return prm, out
 
 
+def run_logged(command):
+    """Run @p command; return (its screen output, exit code, peak resident
+    MiB: under mpirun that of the largest rank it waited for)."""
+    with tempfile.TemporaryFile(mode="w+") as log:
+        process = subprocess.Popen(command, stdout=log,
+                                   stderr=subprocess.STDOUT, text=True)
+        _, status, usage = os.wait4(process.pid, 0)
+        log.seek(0)
+        output = log.read()
+    return output, os.waitstatus_to_exitcode(status), usage.ru_maxrss / 1024.
+
+
 def run_case(exe, overrides, workdir):
     """Run block.prm with overrides; return (last statistics row, peak MiB)."""
     overrides = dict(overrides)

@@ -19,27 +19,21 @@ import csv
 import os
 import re
 import statistics
-import subprocess
 import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
-from contact_bench import write_case  # noqa: E402
+from contact_bench import run_logged, write_case  # noqa: E402
 
 
 def run(exe, overrides, work):
     """Run block-3d.prm with @p overrides; return (statistics row, estimate
     steps {name: seconds}, peak MiB)."""
     prm, out = write_case("block-3d.prm", overrides, work)
-    with tempfile.TemporaryFile(mode="w+") as log:
-        process = subprocess.Popen([exe, prm], stdout=log,
-                                   stderr=subprocess.STDOUT, text=True)
-        _, status, usage = os.wait4(process.pid, 0)
-        log.seek(0)
-        output = log.read()
-    if os.waitstatus_to_exitcode(status) != 0:
+    output, code, peak = run_logged([exe, prm])
+    if code != 0:
         sys.exit(f"{exe} {prm} failed:\n{output}")
     steps = {}
     for line in output.splitlines():
@@ -53,7 +47,7 @@ def run(exe, overrides, work):
                 steps["iterations"] = float(match.group(1))
     with open(os.path.join(out, "statistics.csv")) as f:
         row = list(csv.DictReader(f))[-1]
-    return row, steps, usage.ru_maxrss / 1024.
+    return row, steps, peak
 
 
 def main():
