@@ -1920,9 +1920,9 @@ namespace Signorini
                       "false",
                       Patterns::Bool(),
                       "On triangles, compute with the dimension-independent "
-                      "implementation written for tetrahedra (edge or vertex "
-                      "patches, displacement element problems): a cross-check "
-                      "of the two.");
+                      "implementation that runs on tetrahedra (vertex "
+                      "patches, either Element stress): a cross-check of the "
+                      "two.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
