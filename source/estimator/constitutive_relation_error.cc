@@ -12,6 +12,71 @@
 
 namespace Signorini
 {
+  namespace
+  {
+    /**
+     * Throw unless @p boundary_conditions say where @p constraints prescribe
+     * displacements: on the boundary faces of the cells this rank owns,
+     * every dof fixed to a value (a constraint without entries) has a
+     * Dirichlet part on one of its faces with its component, and every dof
+     * such a part names is constrained. The stress reconstructions leave
+     * the tractions free exactly there: a program of its own (doc/
+     * library.md) that constrains dofs the boundary conditions do not name
+     * would get a wrong estimate, not an error.
+     */
+    template <int dim>
+    void
+    check_dirichlet_data(const AffineConstraints<double> &constraints,
+                         const DoFHandler<dim>           &dof_handler,
+                         const BoundaryConditions<dim>   &boundary_conditions)
+    {
+      const auto                          &fe = dof_handler.get_fe();
+      std::vector<bool>                    named(dof_handler.n_dofs(), false);
+      std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
+      const auto for_each_boundary_dof = [&](const auto &function) {
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const auto &face : cell->face_iterators())
+              if (face->at_boundary())
+                {
+                  face->get_dof_indices(face_dofs);
+                  const ComponentMask mask =
+                    boundary_conditions.dirichlet_mask(face->boundary_id());
+                  for (unsigned int i = 0; i < face_dofs.size(); ++i)
+                    function(face_dofs[i],
+                             mask[fe.face_system_to_component_index(i).first]);
+                }
+      };
+      for_each_boundary_dof(
+        [&](const types::global_dof_index dof, const bool prescribed) {
+          if (prescribed)
+            named[dof] = true;
+        });
+      std::string mismatch;
+      for_each_boundary_dof([&](const types::global_dof_index dof, bool) {
+        const auto *entries = constraints.get_constraint_entries(dof);
+        if (named[dof] && entries == nullptr)
+          mismatch = "dof " + std::to_string(dof) +
+                     " has a Dirichlet part but is not constrained";
+        else if (!named[dof] && entries != nullptr && entries->empty())
+          mismatch = "dof " + std::to_string(dof) +
+                     " is constrained to a value but no Dirichlet part of "
+                     "the boundary conditions names its component on its "
+                     "boundary";
+      });
+      const int anywhere = Utilities::MPI::max(mismatch.empty() ? 0 : 1,
+                                               dof_handler.get_communicator());
+      if (anywhere != 0)
+        throw std::invalid_argument(
+          "ConstitutiveRelationError::estimate(): the constraints and the "
+          "boundary conditions prescribe displacements in different places" +
+          (mismatch.empty() ? std::string(" (on another rank)") :
+                              ": " + mismatch));
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   ConstitutiveRelationError<dim>::declare_parameters(ParameterHandler &prm)
@@ -65,6 +130,9 @@ namespace Signorini
     const Vector<double>              &y,
     LA::Vector                        &admissible_displacement)
   {
+    check_dirichlet_data(problem.constraints(),
+                         dof_handler,
+                         boundary_conditions);
     Result      result;
     const auto &boundary = problem.boundary();
 
