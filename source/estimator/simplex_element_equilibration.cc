@@ -270,65 +270,6 @@ namespace Signorini
       return (face * dim + k) * dim + c;
     }
 
-    /**
-     * A symmetric matrix stored by its lower triangle (the element Hessians:
-     * the conjugate gradients stream them once per iteration, so their
-     * memory is their time).
-     */
-    class PackedSymmetric
-    {
-    public:
-      PackedSymmetric() = default;
-
-      explicit PackedSymmetric(const FullMatrix<double> &matrix)
-        : n(matrix.m())
-        , values(n * (n + 1) / 2)
-      {
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j <= i; ++j)
-            values[i * (i + 1) / 2 + j] = 0.5 * (matrix(i, j) + matrix(j, i));
-      }
-
-      double
-      operator()(const unsigned int i, const unsigned int j) const
-      {
-        return (i >= j) ? values[i * (i + 1) / 2 + j] :
-                          values[j * (j + 1) / 2 + i];
-      }
-
-      /// y += A x
-      void
-      vmult_add(Vector<double> &y, const Vector<double> &x) const
-      {
-        for (unsigned int i = 0; i < n; ++i)
-          {
-            const double *row = &values[i * (i + 1) / 2];
-            double        sum = 0.;
-            for (unsigned int j = 0; j < i; ++j)
-              {
-                sum += row[j] * x[j];
-                y[j] += row[j] * x[i];
-              }
-            y[i] += sum + row[i] * x[i];
-          }
-      }
-
-      /// x^T A x
-      double
-      norm_square(const Vector<double> &x) const
-      {
-        Vector<double> y(n);
-        vmult_add(y, x);
-        return y * x;
-      }
-
-    private:
-      /// The size.
-      unsigned int n = 0;
-      /// Row i holds the entries (i, 0..i), at i (i + 1) / 2.
-      std::vector<double> values;
-    };
-
     /// The values per element: (dim + 1) faces, dim corners, dim components.
     template <int dim>
     constexpr unsigned int n_element_values = (dim + 1) * (dim * dim);
@@ -776,15 +717,18 @@ namespace Signorini
     /**
      * int_dE (s F) . r_k for the rigid motions r_k of the cell (rows) and the
      * element's density values (columns): the equilibrium of the element
-     * with its densities is rows . d + int_E f . r_k = 0.
+     * with its densities is rows . d + int_E f . r_k = 0. Into @p work
+     * (resized if needed: the loops reuse one).
      */
     template <int dim>
-    FullMatrix<double>
+    void
     rigid_work(const SimplexMesh<dim>  &mesh,
                const CellGeometry<dim> &geometry,
-               const unsigned int       cell)
+               const unsigned int       cell,
+               FullMatrix<double>      &work)
     {
-      FullMatrix<double> work(n_rigid<dim>, n_element_values<dim>);
+      if (work.m() != n_rigid<dim> || work.n() != n_element_values<dim>)
+        work.reinit(n_rigid<dim>, n_element_values<dim>);
       for (unsigned int f = 0; f <= dim; ++f)
         {
           const unsigned int face = mesh.cell_faces[cell][f];
@@ -807,7 +751,6 @@ namespace Signorini
                                                  corner_values);
               }
         }
-      return work;
     }
     /// What the steps read: the input, the mesh, sigma_h and eps(U^), the
     /// rules and space of the element problems, the free components.
@@ -849,17 +792,128 @@ namespace Signorini
       std::vector<std::array<bool, dim>> free;
     };
 
-    /// The element problems as quadratics (element_quadratics()), by active
-    /// cell index.
+    /**
+     * The element problems of the needed cells as quadratic functions of
+     * their densities d: ||sigma^_E(d) -/+ K eps(U^)||^2_E = d^T H d +
+     * 2 g-/+^T d + c-/+. Stored contiguously for the needed cells only, H by
+     * its lower triangle: the conjugate gradients stream the Hessians once
+     * per iteration, so their memory is their time. Each cell is set once,
+     * from any thread.
+     */
     template <int dim>
-    struct ElementQuadratics
+    class ElementQuadratics
     {
-      /// H
-      std::vector<PackedSymmetric> hessian;
-      /// g-, g+
-      std::vector<Vector<double>> gradient, sum_gradient;
-      /// c-, c+
-      std::vector<double> constant, sum_constant;
+    public:
+      /// The values per element.
+      static constexpr unsigned int n = n_element_values<dim>;
+
+      /// Room for the cells flagged in @p needed (by active cell index).
+      explicit ElementQuadratics(const std::vector<bool> &needed)
+        : position(needed.size(), invalid)
+      {
+        unsigned int count = 0;
+        for (unsigned int cell = 0; cell < needed.size(); ++cell)
+          if (needed[cell])
+            position[cell] = count++;
+        hessians.resize(std::size_t(count) * packed);
+        gradients.resize(std::size_t(count) * n);
+        sum_gradients.resize(std::size_t(count) * n);
+        constants.resize(count);
+        sum_constants.resize(count);
+      }
+
+      /// The quadratic of @p cell: H = @p hessian (symmetrised), g-/+ and
+      /// c-/+.
+      void
+      set(const unsigned int        cell,
+          const FullMatrix<double> &hessian,
+          const Vector<double>     &gradient,
+          const Vector<double>     &sum_gradient,
+          const double              constant,
+          const double              sum_constant)
+      {
+        const std::size_t k      = position[cell];
+        double *const     values = &hessians[k * packed];
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j <= i; ++j)
+            values[i * (i + 1) / 2 + j] = 0.5 * (hessian(i, j) + hessian(j, i));
+        std::copy(gradient.begin(), gradient.end(), &gradients[k * n]);
+        std::copy(sum_gradient.begin(),
+                  sum_gradient.end(),
+                  &sum_gradients[k * n]);
+        constants[k]     = constant;
+        sum_constants[k] = sum_constant;
+      }
+
+      /// H(i, j) of @p cell.
+      double
+      hessian(const unsigned int cell,
+              const unsigned int i,
+              const unsigned int j) const
+      {
+        const double *values = &hessians[std::size_t(position[cell]) * packed];
+        return (i >= j) ? values[i * (i + 1) / 2 + j] :
+                          values[j * (j + 1) / 2 + i];
+      }
+
+      /// @p y = g- + H @p x (with @p with_gradient), or H @p x, of @p cell
+      /// (n entries each).
+      void
+      product(const unsigned int cell,
+              const double      *x,
+              const bool         with_gradient,
+              double            *y) const
+      {
+        const std::size_t k = position[cell];
+        if (with_gradient)
+          std::copy(&gradients[k * n], &gradients[k * n] + n, y);
+        else
+          std::fill(y, y + n, 0.);
+        const double *values = &hessians[k * packed];
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double *row = &values[i * (i + 1) / 2];
+            double        sum = 0.;
+            for (unsigned int j = 0; j < i; ++j)
+              {
+                sum += row[j] * x[j];
+                y[j] += row[j] * x[i];
+              }
+            y[i] += sum + row[i] * x[i];
+          }
+      }
+
+      /// d^T H d + 2 g-/+^T d + c-/+ of @p cell at @p d (g+ and c+ with
+      /// @p sum), at least 0: round-off can make a vanishing error negative.
+      double
+      value(const unsigned int    cell,
+            const Vector<double> &d,
+            const bool            sum) const
+      {
+        const std::size_t     k = position[cell];
+        std::array<double, n> hd;
+        product(cell, d.data(), false, hd.data());
+        const double *g = sum ? &sum_gradients[k * n] : &gradients[k * n];
+        double        quadratic = 0., linear = 0.;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            quadratic += hd[i] * d[i];
+            linear += g[i] * d[i];
+          }
+        return std::max(quadratic + 2. * linear +
+                          (sum ? sum_constants[k] : constants[k]),
+                        0.);
+      }
+
+    private:
+      /// The entries of a lower triangle.
+      static constexpr unsigned int packed = n * (n + 1) / 2;
+      /// Each cell's place in the arrays (invalid: not needed).
+      std::vector<unsigned int> position;
+      /// H, row i of a cell's triangle holding (i, 0..i) at i (i + 1) / 2.
+      std::vector<double> hessians;
+      /// g-, g+, c-, c+.
+      std::vector<double> gradients, sum_gradients, constants, sum_constants;
     };
 
 
@@ -996,14 +1050,31 @@ namespace Signorini
         const QGaussSimplex<dim> &quadrature = rules.cell;
         std::mutex                mutex;
         // (relative to the largest term of all patches)
-        double     largest_defect = 0., largest_scale = 0.;
-        const auto classical_patch = [&](const unsigned int vertex) {
+        double largest_defect = 0., largest_scale = 0.;
+        // (the work space of one thread's patches: reused, not allocated
+        // per patch and component)
+        struct Scratch
+        {
+          std::vector<unsigned int>            faces;
+          std::vector<std::array<double, dim>> q_values, scale;
+          std::vector<Point<dim>>              points;
+          std::vector<Vector<double>>          force;
+          FullMatrix<double>                   incidence, normal, factor;
+          std::vector<Tensor<1, dim>>          average_traction;
+          Vector<double>                       rhs, average, residual, lambda;
+          std::vector<bool>                    is_free;
+        };
+        const auto classical_patch = [&](const unsigned int vertex,
+                                         Scratch           &scratch) {
           const auto        &cells = mesh.cells_of_vertex[vertex];
           const unsigned int n     = cells.size();
           // the faces through the vertex, and Q_E for every component
-          std::vector<unsigned int>            faces;
-          std::vector<std::array<double, dim>> q_values(n);
-          std::vector<std::array<double, dim>> scale(n);
+          auto &faces    = scratch.faces;
+          auto &q_values = scratch.q_values;
+          auto &scale    = scratch.scale;
+          faces.clear();
+          q_values.resize(n);
+          scale.resize(n);
           for (unsigned int e = 0; e < n; ++e)
             {
               const unsigned int      cell = cells[e];
@@ -1020,11 +1091,12 @@ namespace Signorini
                 }
               if (bc.body_force)
                 {
-                  std::vector<Point<dim>> points(quadrature.size());
+                  auto &points = scratch.points;
+                  auto &force  = scratch.force;
+                  points.resize(quadrature.size());
                   for (unsigned int q = 0; q < quadrature.size(); ++q)
                     points[q] = geometry.point(quadrature.point(q));
-                  std::vector<Vector<double>> force(points.size(),
-                                                    Vector<double>(dim));
+                  force.resize(points.size(), Vector<double>(dim));
                   bc.body_force->vector_value_list(points, force);
                   for (unsigned int q = 0; q < quadrature.size(); ++q)
                     {
@@ -1056,7 +1128,8 @@ namespace Signorini
             }
           const unsigned int n_faces_here = faces.size();
           // A: s(E, G) for the faces of E through the vertex
-          FullMatrix<double> incidence(n, n_faces_here);
+          FullMatrix<double> &incidence = scratch.incidence;
+          incidence.reinit(n, n_faces_here);
           for (unsigned int e = 0; e < n; ++e)
             for (unsigned int g = 0; g < n_faces_here; ++g)
               {
@@ -1067,7 +1140,8 @@ namespace Signorini
           // the averaged FE traction on each face through the vertex (on
           // its first cell; sigma_h n on a boundary face), for the free
           // components
-          std::vector<Tensor<1, dim>> average_traction(n_faces_here);
+          auto &average_traction = scratch.average_traction;
+          average_traction.resize(n_faces_here);
           for (unsigned int g = 0; g < n_faces_here; ++g)
             {
               const auto             &fc = mesh.face_cells[faces[g]];
@@ -1085,9 +1159,12 @@ namespace Signorini
             {
               // data faces to the right-hand side; the averaged FE tractions
               // of the free ones
-              Vector<double>    rhs(n), average(n_faces_here);
-              std::vector<bool> is_free(n_faces_here);
-              bool              free_boundary = false;
+              Vector<double> &rhs = scratch.rhs, &average = scratch.average;
+              rhs.reinit(n);
+              average.reinit(n_faces_here);
+              auto &is_free = scratch.is_free;
+              is_free.assign(n_faces_here, false);
+              bool free_boundary = false;
               for (unsigned int g = 0; g < n_faces_here; ++g)
                 {
                   const unsigned int face = faces[g];
@@ -1121,8 +1198,10 @@ namespace Signorini
               for (unsigned int e = 0; e < n; ++e)
                 rhs[e] += q_values[e][c];
               // b = average + A^T lambda, A A^T lambda = rhs - A average
-              Vector<double>     residual(rhs);
-              FullMatrix<double> normal(n, n);
+              Vector<double> &residual   = scratch.residual;
+              residual                   = rhs;
+              FullMatrix<double> &normal = scratch.normal;
+              normal.reinit(n, n);
               for (unsigned int e = 0; e < n; ++e)
                 {
                   for (unsigned int g = 0; g < n_faces_here; ++g)
@@ -1145,8 +1224,10 @@ namespace Signorini
                     for (unsigned int l = 0; l < n; ++l)
                       normal(e, l) += 1.;
                 }
-              FullMatrix<double> factor(normal);
-              Vector<double>     lambda(residual);
+              FullMatrix<double> &factor = scratch.factor;
+              factor                     = normal;
+              Vector<double> &lambda     = scratch.lambda;
+              lambda                     = residual;
               if (SmallMatrices::cholesky(factor, 1e-13))
                 SmallMatrices::cholesky_solve(factor, lambda);
               else
@@ -1188,9 +1269,10 @@ namespace Signorini
           0u,
           triangulation.n_vertices(),
           [&](const unsigned int begin, const unsigned int end) {
+            Scratch scratch;
             for (unsigned int v = begin; v < end; ++v)
               if (computes[v])
-                classical_patch(v);
+                classical_patch(v, scratch);
           },
           32);
         sum_over_ranks(projections, communicator);
@@ -1238,17 +1320,7 @@ namespace Signorini
       const auto            &rules   = context.rules;
       const auto            &space   = context.space;
       const auto             n_cells = context.n_cells;
-      ElementQuadratics<dim> quadratics;
-      auto                  &hessian      = quadratics.hessian;
-      auto                  &gradient     = quadratics.gradient;
-      auto                  &sum_gradient = quadratics.sum_gradient;
-      auto                  &constant     = quadratics.constant;
-      auto                  &sum_constant = quadratics.sum_constant;
-      hessian.resize(n_cells);
-      gradient.resize(n_cells);
-      sum_gradient.resize(n_cells);
-      constant.resize(n_cells);
-      sum_constant.resize(n_cells);
+      ElementQuadratics<dim> quadratics(needed);
       parallel::apply_to_subranges(
         0u,
         n_cells,
@@ -1280,14 +1352,13 @@ namespace Signorini
                 FullMatrix<double> full(n_element_values<dim>,
                                         n_element_values<dim>);
                 system.load.Tmmult(full, solved);
-                hessian[cell] = PackedSymmetric(full);
                 Vector<double> data(system.body);
                 data -= system.admissible;
-                gradient[cell].reinit(n_element_values<dim>);
-                solved.Tvmult(gradient[cell], data);
+                Vector<double> gradient(n_element_values<dim>),
+                  sum_gradient(n_element_values<dim>);
+                solved.Tvmult(gradient, data);
                 data.add(2., system.admissible);
-                sum_gradient[cell].reinit(n_element_values<dim>);
-                solved.Tvmult(sum_gradient[cell], data);
+                solved.Tvmult(sum_gradient, data);
                 // l_f^T w_f -/+ 2 a_U^T w_f + |E| K eps(U^) : eps(U^)
                 Vector<double> body_solution(system.body);
                 SmallMatrices::cholesky_solve(system.factor, body_solution);
@@ -1296,10 +1367,12 @@ namespace Signorini
                 const double base =
                   (system.body * body_solution) +
                   geometry.measure * (input.material.stress(strain) * strain);
-                constant[cell] =
-                  base - 2. * (system.admissible * body_solution);
-                sum_constant[cell] =
-                  base + 2. * (system.admissible * body_solution);
+                quadratics.set(cell,
+                               full,
+                               gradient,
+                               sum_gradient,
+                               base - 2. * (system.admissible * body_solution),
+                               base + 2. * (system.admissible * body_solution));
               }
         },
         16);
@@ -1412,12 +1485,7 @@ namespace Signorini
                             const JohnsonKrizekMercierElement<dim> &element)
     {
       constexpr unsigned int n = n_element_values<dim>;
-      ElementQuadratics<dim> quadratics;
-      quadratics.hessian.resize(context.n_cells);
-      quadratics.gradient.resize(context.n_cells);
-      quadratics.sum_gradient.resize(context.n_cells);
-      quadratics.constant.resize(context.n_cells);
-      quadratics.sum_constant.resize(context.n_cells);
+      ElementQuadratics<dim> quadratics(needed);
       parallel::apply_to_subranges(
         0u,
         context.n_cells,
@@ -1437,22 +1505,22 @@ namespace Signorini
                                                      data.body_force,
                                                      -admissible);
                 FullMatrix<double> full(n, n);
-                quadratics.gradient[cell].reinit(n);
-                quadratics.sum_gradient[cell].reinit(n);
+                Vector<double>     gradient(n), sum_gradient(n);
                 for (unsigned int a = 0; a < n; ++a)
                   {
                     const unsigned int t = data.traction_index[a];
                     for (unsigned int b = 0; b < n; ++b)
                       full(a, b) = data.sign[a] * data.sign[b] *
                                    hessian[t * n + data.traction_index[b]];
-                    quadratics.gradient[cell][a] =
-                      data.sign[a] * difference.first[t];
-                    quadratics.sum_gradient[cell][a] =
-                      data.sign[a] * sum.first[t];
+                    gradient[a]     = data.sign[a] * difference.first[t];
+                    sum_gradient[a] = data.sign[a] * sum.first[t];
                   }
-                quadratics.hessian[cell]      = PackedSymmetric(full);
-                quadratics.constant[cell]     = difference.second;
-                quadratics.sum_constant[cell] = sum.second;
+                quadratics.set(cell,
+                               full,
+                               gradient,
+                               sum_gradient,
+                               difference.second,
+                               sum.second);
               }
         },
         16);
@@ -1477,8 +1545,6 @@ namespace Signorini
       const auto         &settings     = context.settings;
       const auto         &mesh         = context.mesh;
       const auto         &free         = context.free;
-      const auto         &hessian      = quadratics.hessian;
-      const auto         &gradient     = quadratics.gradient;
       const auto          communicator = context.communicator;
       const auto          n_cells      = context.n_cells;
       const auto          n_faces      = context.n_faces;
@@ -1503,11 +1569,18 @@ namespace Signorini
         unsigned int n_changes = 0;
       };
       std::vector<Patch> patch_of(hinges.size());
-      const auto         describe_patch = [&](const unsigned int hinge) {
-        Patch      &patch = patch_of[hinge];
-        const auto &cells = hinges.cells[hinge];
-        std::vector<std::array<int, n_element_values<dim>>> positions(
-          cells.size());
+      // (the work space of one thread's patches)
+      struct Scratch
+      {
+        std::vector<std::array<int, n_element_values<dim>>> positions;
+        FullMatrix<double> patch_hessian, constraints, work, hz, reduced;
+      };
+      const auto describe_patch = [&](const unsigned int hinge,
+                                      Scratch           &scratch) {
+        Patch      &patch     = patch_of[hinge];
+        const auto &cells     = hinges.cells[hinge];
+        auto       &positions = scratch.positions;
+        positions.resize(cells.size());
         for (unsigned int e = 0; e < cells.size(); ++e)
           for (unsigned int f = 0; f <= dim; ++f)
             {
@@ -1535,13 +1608,16 @@ namespace Signorini
         const unsigned int n_free = patch.slots.size();
         if (n_free == 0)
           return;
-        FullMatrix<double> patch_hessian(n_free, n_free);
-        FullMatrix<double> constraints(n_rigid<dim> * cells.size(), n_free);
+        FullMatrix<double> &patch_hessian = scratch.patch_hessian;
+        FullMatrix<double> &constraints   = scratch.constraints;
+        FullMatrix<double> &work          = scratch.work;
+        patch_hessian.reinit(n_free, n_free);
+        constraints.reinit(n_rigid<dim> * cells.size(), n_free);
         for (unsigned int e = 0; e < cells.size(); ++e)
           {
-            const unsigned int       cell = cells[e];
-            const CellGeometry<dim>  geometry(mesh, cell);
-            const FullMatrix<double> work = rigid_work(mesh, geometry, cell);
+            const unsigned int      cell = cells[e];
+            const CellGeometry<dim> geometry(mesh, cell);
+            rigid_work(mesh, geometry, cell, work);
             for (unsigned int a = 0; a < n_element_values<dim>; ++a)
               {
                 const int i = positions[e][a];
@@ -1549,7 +1625,8 @@ namespace Signorini
                   continue;
                 for (unsigned int b = 0; b < n_element_values<dim>; ++b)
                   if (positions[e][b] >= 0)
-                    patch_hessian(i, positions[e][b]) += hessian[cell](a, b);
+                    patch_hessian(i, positions[e][b]) +=
+                      quadratics.hessian(cell, a, b);
                 for (unsigned int r = 0; r < n_rigid<dim>; ++r)
                   constraints(e * n_rigid<dim> + r, i) = work(r, a);
               }
@@ -1559,7 +1636,9 @@ namespace Signorini
         const unsigned int m = kernel.n();
         if (m == 0)
           return;
-        FullMatrix<double> hz(n_free, m), reduced(m, m);
+        FullMatrix<double> &hz = scratch.hz, &reduced = scratch.reduced;
+        hz.reinit(n_free, m);
+        reduced.reinit(m, m);
         patch_hessian.mmult(hz, kernel);
         kernel.Tmmult(reduced, hz);
         double largest = 0.;
@@ -1569,21 +1648,20 @@ namespace Signorini
           reduced(i, i) += 1e-12 * largest;
         if (!SmallMatrices::cholesky(reduced, 1e-14))
           return;
-        // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T
-        FullMatrix<double> factor(n_free, m);
-        for (unsigned int i = 0; i < n_free; ++i)
-          for (unsigned int j = 0; j < m; ++j)
-            {
-              double value = kernel(i, j);
-              for (unsigned int k = 0; k < j; ++k)
-                value -= factor(i, k) * reduced(j, k);
-              factor(i, j) = value / reduced(j, j);
-            }
+        // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T, row by row
         patch.n_changes = m;
         patch.correction.resize(n_free * m);
         for (unsigned int i = 0; i < n_free; ++i)
-          for (unsigned int j = 0; j < m; ++j)
-            patch.correction[i * m + j] = factor(i, j);
+          {
+            double *const row = &patch.correction[i * m];
+            for (unsigned int j = 0; j < m; ++j)
+              {
+                double value = kernel(i, j);
+                for (unsigned int k = 0; k < j; ++k)
+                  value -= row[k] * reduced(j, k);
+                row[j] = value / reduced(j, j);
+              }
+          }
       };
       std::vector<unsigned int> computed;
       for (unsigned int h = 0; h < hinges.size(); ++h)
@@ -1593,8 +1671,9 @@ namespace Signorini
         0u,
         static_cast<unsigned int>(computed.size()),
         [&](const unsigned int begin, const unsigned int end) {
+          Scratch scratch;
           for (unsigned int p = begin; p < end; ++p)
-            describe_patch(computed[p]);
+            describe_patch(computed[p], scratch);
         },
         16);
 
@@ -1636,13 +1715,19 @@ namespace Signorini
           },
           16);
         sum_over_ranks(contributions, communicator);
-        for (unsigned int s = 0; s < n_slots; ++s)
-          {
-            double value = 0.;
-            for (unsigned int k = 0; k < dim; ++k)
-              value += contributions[s * dim + k];
-            z[s] = value;
-          }
+        parallel::apply_to_subranges(
+          0u,
+          n_slots,
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int s = begin; s < end; ++s)
+              {
+                double value = 0.;
+                for (unsigned int k = 0; k < dim; ++k)
+                  value += contributions[s * dim + k];
+                z[s] = value;
+              }
+          },
+          4096);
       };
 
       // y = H x (+ g): the sum of the owned cells' contributions, at
@@ -1658,52 +1743,92 @@ namespace Signorini
                 if (mesh.cell_faces[cell][f] == face)
                   local_face[face][side] = f;
           }
-      std::vector<Vector<double>> cell_products(n_cells);
-      const auto                  multiply = [&](const std::vector<double> &x,
+      // (one contiguous block: each iteration writes and reads all of it)
+      constexpr unsigned int n = n_element_values<dim>;
+      std::vector<double>    cell_products(std::size_t(n_cells) * n);
+      const auto             multiply = [&](const std::vector<double> &x,
                                 const bool                 with_gradient,
                                 std::vector<double>       &y) {
         parallel::apply_to_subranges(
           0u,
           n_cells,
           [&](const unsigned int begin, const unsigned int end) {
-            Vector<double> d(n_element_values<dim>);
+            Vector<double> d(n);
             for (unsigned int cell = begin; cell < end; ++cell)
               if (mesh.owned[cell])
                 {
-                  Vector<double> &product = cell_products[cell];
-                  if (with_gradient)
-                    product = gradient[cell];
-                  else
-                    product.reinit(n_element_values<dim>);
                   element_densities(mesh, cell, x, d);
-                  hessian[cell].vmult_add(product, d);
+                  quadratics.product(cell,
+                                     d.data(),
+                                     with_gradient,
+                                     &cell_products[std::size_t(cell) * n]);
                 }
           },
           64);
-        for (unsigned int face = 0; face < n_faces; ++face)
-          for (unsigned int k = 0; k < dim; ++k)
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                double value = 0.;
-                for (unsigned int side = 0; side < 2; ++side)
+        parallel::apply_to_subranges(
+          0u,
+          n_faces,
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int face = begin; face < end; ++face)
+              for (unsigned int k = 0; k < dim; ++k)
+                for (unsigned int c = 0; c < dim; ++c)
                   {
-                    const unsigned int cell = mesh.face_cells[face][side];
-                    if (cell != invalid && mesh.owned[cell])
-                      value +=
-                        cell_products[cell]
-                                     [(local_face[face][side] * dim + k) * dim +
-                                      c];
+                    double value = 0.;
+                    for (unsigned int side = 0; side < 2; ++side)
+                      {
+                        const unsigned int cell = mesh.face_cells[face][side];
+                        if (cell != invalid && mesh.owned[cell])
+                          value +=
+                            cell_products[std::size_t(cell) * n +
+                                          (local_face[face][side] * dim + k) *
+                                            dim +
+                                          c];
+                      }
+                    y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
                   }
-                y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
-              }
+          },
+          256);
         sum_over_ranks(y, communicator);
       };
+      // (in blocks of a fixed size summed in order: the same sum on any
+      // number of threads)
       const auto dot = [](const std::vector<double> &a,
                           const std::vector<double> &b) {
+        constexpr std::size_t block    = 4096;
+        const std::size_t     n_blocks = (a.size() + block - 1) / block;
+        std::vector<double>   partial(n_blocks);
+        parallel::apply_to_subranges(
+          std::size_t(0),
+          n_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k)
+              {
+                double sum = 0.;
+                for (std::size_t i = k * block;
+                     i < std::min(a.size(), (k + 1) * block);
+                     ++i)
+                  sum += a[i] * b[i];
+                partial[k] = sum;
+              }
+          },
+          4);
         double sum = 0.;
-        for (std::size_t i = 0; i < a.size(); ++i)
-          sum += a[i] * b[i];
+        for (const double p : partial)
+          sum += p;
         return sum;
+      };
+      // x += alpha y on every slot, in parallel
+      const auto add = [n_slots](std::vector<double>       &x,
+                                 const double               alpha,
+                                 const std::vector<double> &y) {
+        parallel::apply_to_subranges(
+          0u,
+          n_slots,
+          [&](const unsigned int begin, const unsigned int end) {
+            for (unsigned int s = begin; s < end; ++s)
+              x[s] += alpha * y[s];
+          },
+          4096);
       };
 
       // preconditioned conjugate gradients in the changes that keep every
@@ -1732,11 +1857,8 @@ namespace Signorini
           if (!(curvature > 0.))
             break;
           const double alpha = rz / curvature;
-          for (unsigned int s = 0; s < n_slots; ++s)
-            {
-              densities[s] += alpha * direction[s];
-              residual[s] -= alpha * product[s];
-            }
+          add(densities, alpha, direction);
+          add(residual, -alpha, product);
           const double step_decrease = 0.5 * alpha * rz;
           decrease += step_decrease;
           measure.push_back(step_decrease);
@@ -1748,8 +1870,14 @@ namespace Signorini
           const double rz_new = dot(residual, z);
           const double beta   = rz_new / rz;
           rz                  = rz_new;
-          for (unsigned int s = 0; s < n_slots; ++s)
-            direction[s] = z[s] + beta * direction[s];
+          parallel::apply_to_subranges(
+            0u,
+            n_slots,
+            [&](const unsigned int begin, const unsigned int end) {
+              for (unsigned int s = begin; s < end; ++s)
+                direction[s] = z[s] + beta * direction[s];
+            },
+            4096);
         }
 
       return measure;
@@ -1777,11 +1905,6 @@ namespace Signorini
       const auto &bc           = context.input.boundary_conditions;
       const auto &mesh         = context.mesh;
       const auto &rules        = context.rules;
-      const auto &hessian      = quadratics.hessian;
-      const auto &gradient     = quadratics.gradient;
-      const auto &sum_gradient = quadratics.sum_gradient;
-      const auto &constant     = quadratics.constant;
-      const auto &sum_constant = quadratics.sum_constant;
       const auto  communicator = context.communicator;
       const auto  n_cells      = context.n_cells;
       std::mutex  mutex;
@@ -1790,8 +1913,11 @@ namespace Signorini
         0u,
         n_cells,
         [&](const unsigned int begin, const unsigned int end) {
-          double         range_defect = 0.;
-          Vector<double> d(n_element_values<dim>);
+          double                      range_defect = 0.;
+          Vector<double>              d(n_element_values<dim>);
+          FullMatrix<double>          work;
+          std::vector<Point<dim>>     points(rules.cell.size());
+          std::vector<Vector<double>> force(points.size(), Vector<double>(dim));
           for (unsigned int cell = begin; cell < end; ++cell)
             if (mesh.owned[cell])
               {
@@ -1817,26 +1943,14 @@ namespace Signorini
                   }
                 else
                   {
-                    const double quadratic = hessian[cell].norm_square(d);
-                    // (round-off could make a vanishing error negative)
-                    error_squared[cell] =
-                      std::max(quadratic + 2. * (gradient[cell] * d) +
-                                 constant[cell],
-                               0.);
-                    sum_squared[cell] =
-                      std::max(quadratic + 2. * (sum_gradient[cell] * d) +
-                                 sum_constant[cell],
-                               0.);
+                    error_squared[cell] = quadratics.value(cell, d, false);
+                    sum_squared[cell]   = quadratics.value(cell, d, true);
                   }
 
                 // the resultant and moment of the element's data
-                const FullMatrix<double> work =
-                  rigid_work(mesh, geometry, cell);
-                std::vector<Point<dim>> points(rules.cell.size());
+                rigid_work(mesh, geometry, cell, work);
                 for (unsigned int q = 0; q < rules.cell.size(); ++q)
                   points[q] = geometry.point(rules.cell.point(q));
-                std::vector<Vector<double>> force(points.size(),
-                                                  Vector<double>(dim));
                 if (bc.body_force)
                   bc.body_force->vector_value_list(points, force);
                 for (unsigned int r = 0; r < n_rigid<dim>; ++r)
