@@ -5,11 +5,11 @@ Installs the build tree into a fresh prefix (cmake --install), configures
 examples/contact_in_your_program against it with find_package(signorini)
 alone, builds and runs it, and compares what it prints -- its own mesh,
 assembly and constraints, signorini's contact solver and estimator -- with
-the signorini executable on the same problem (tests/inputs/block.prm, two
-refinements): the same mesh, the same energy and contact force to the
-linear solver's tolerance, the same eps.
+the installed signorini executable on the same problem
+(tests/inputs/block.prm, two refinements): the same mesh, the same energy
+and contact force to the linear solver's tolerance, the same eps.
 
-Usage: installed_package.py BUILD_DIR SOURCE_DIR BUILD_TYPE SIGNORINI WORK_DIR
+Usage: installed_package.py BUILD_DIR SOURCE_DIR BUILD_TYPE WORK_DIR
 """
 import csv
 import os
@@ -17,10 +17,11 @@ import shutil
 import subprocess
 import sys
 
-build, source, build_type, signorini, work = sys.argv[1:6]
+build, source, build_type, work = sys.argv[1:5]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 prefix = os.path.join(work, "prefix")
+signorini = os.path.join(prefix, "bin", "signorini")
 
 
 def run(command, **kwargs):
