@@ -13,7 +13,7 @@ from paraview.simple import (ColorBy, CreateRenderView, GetColorTransferFunction
 source, picture = sys.argv[1:3]
 mesh = XMLUnstructuredGridReader(FileName=[source])
 view = CreateRenderView()
-view.ViewSize = [1000, 800]
+view.ViewSize = [800, 640]
 view.OrientationAxesVisibility = 0
 if hasattr(view, "UseColorPaletteForBackground"):
     view.UseColorPaletteForBackground = 0
@@ -45,4 +45,4 @@ bar.ScalarBarLength = 0.7
 view.ResetCamera()
 view.CameraParallelScale = 0.53
 Render(view)
-SaveScreenshot(picture, view, ImageResolution=[1000, 800])
+SaveScreenshot(picture, view, ImageResolution=[800, 640])
