@@ -1743,10 +1743,16 @@ namespace Signorini
                 if (mesh.cell_faces[cell][f] == face)
                   local_face[face][side] = f;
           }
-      // (one contiguous block: each iteration writes and reads all of it)
-      constexpr unsigned int n = n_element_values<dim>;
-      std::vector<double>    cell_products(std::size_t(n_cells) * n);
-      const auto             multiply = [&](const std::vector<double> &x,
+      // (one contiguous block for the owned cells: each iteration writes
+      // and reads all of it)
+      constexpr unsigned int    n = n_element_values<dim>;
+      std::vector<unsigned int> owned_position(n_cells, invalid);
+      unsigned int              n_owned = 0;
+      for (unsigned int cell = 0; cell < n_cells; ++cell)
+        if (mesh.owned[cell])
+          owned_position[cell] = n_owned++;
+      std::vector<double> cell_products(std::size_t(n_owned) * n);
+      const auto          multiply = [&](const std::vector<double> &x,
                                 const bool                 with_gradient,
                                 std::vector<double>       &y) {
         parallel::apply_to_subranges(
@@ -1758,10 +1764,11 @@ namespace Signorini
               if (mesh.owned[cell])
                 {
                   element_densities(mesh, cell, x, d);
-                  quadratics.product(cell,
-                                     d.data(),
-                                     with_gradient,
-                                     &cell_products[std::size_t(cell) * n]);
+                  quadratics.product(
+                    cell,
+                    d.data(),
+                    with_gradient,
+                    &cell_products[std::size_t(owned_position[cell]) * n]);
                 }
           },
           64);
@@ -1778,11 +1785,9 @@ namespace Signorini
                       {
                         const unsigned int cell = mesh.face_cells[face][side];
                         if (cell != invalid && mesh.owned[cell])
-                          value +=
-                            cell_products[std::size_t(cell) * n +
-                                          (local_face[face][side] * dim + k) *
-                                            dim +
-                                          c];
+                          value += cell_products
+                            [std::size_t(owned_position[cell]) * n +
+                             (local_face[face][side] * dim + k) * dim + c];
                       }
                     y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
                   }

@@ -36,18 +36,15 @@ namespace Signorini
    * conforming meshes).
    *
    * On tetrahedra the same steps are those of
-   * compute_simplex_element_equilibration(): displacement element problems
-   * and the enhancement preconditioned by edge patches; the
-   * Johnson-Mercier fields and the minimised densities are written for
+   * compute_simplex_element_equilibration(): enhanced densities
+   * preconditioned by edge patches and Johnson-Krizek-Mercier fields (or
+   * displacement element problems); the minimised densities are written for
    * triangles and refused there by name.
    */
   template <int dim>
   class ElementEquilibration : public StressReconstruction<dim>
   {
   public:
-    /// Whether compute() is implemented in dimension @p dim (both).
-    static constexpr bool is_implemented = true;
-
     /// The choice of the free parameters of the traction densities
     /// ("Traction densities").
     enum class TractionDensities

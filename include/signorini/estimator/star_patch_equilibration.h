@@ -43,9 +43,6 @@ namespace Signorini
   class StarPatchEquilibration : public StressReconstruction<dim>
   {
   public:
-    /// compute() is implemented in 2D and 3D.
-    static constexpr bool is_implemented = true;
-
     /// Section Error estimator/Star patch: "Local degree".
     static void
     declare_parameters(ParameterHandler &prm);
