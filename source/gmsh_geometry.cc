@@ -1,23 +1,16 @@
-#include <deal.II/base/mpi.h>
 
 #include <signorini/gmsh_child_process.h>
 #include <signorini/gmsh_geometry.h>
+#include <signorini/gmsh_mesh.h>
 #include <signorini/input_error.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <gmsh.h>
 #include <iomanip>
-#include <iterator>
-#include <map>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace Signorini
 {
@@ -112,66 +105,12 @@ namespace Signorini
 
 
     /**
-     * In a child: "" if the sizes of the points of the open model are
-     * positive, else what is wrong. Gmsh
-     * throws on a size <= 0 in a parallel region, which aborts; and the
-     * estimate would take them for tiny sizes.
-     */
-    std::string
-    check_sizes()
-    {
-      // Gmsh 4.8 has no getter of the sizes of points: the unrolled
-      // geometry lists them (if Gmsh cannot write it, no check)
-      const std::string file =
-        (std::filesystem::temp_directory_path() /
-         ("signorini-" + std::to_string(::getpid()) + ".geo_unrolled"))
-          .string();
-      try
-        {
-          gmsh::write(file);
-        }
-      catch (...)
-        {
-          std::remove(file.c_str());
-          return "";
-        }
-      std::ifstream                 in(file);
-      std::map<std::string, double> variables;
-      const std::regex              variable(R"(^\s*(cl__\d+)\s*=\s*([^;]+);)"),
-        point(R"(^\s*Point\((\d+)\)\s*=\s*\{[^,]*,[^,]*,[^,]*,\s*([^}]+)\})");
-      std::string line, error;
-      std::smatch match;
-      while (error.empty() && std::getline(in, line))
-        if (std::regex_search(line, match, variable))
-          variables[match[1]] = std::strtod(match[2].str().c_str(), nullptr);
-        else if (std::regex_search(line, match, point))
-          {
-            const std::string size  = match[2];
-            const double      value = variables.count(size) ?
-                                        variables[size] :
-                                        std::strtod(size.c_str(), nullptr);
-            if (!(value > 0) || !std::isfinite(value))
-              {
-                std::ostringstream text;
-                text << "Point(" << match[1] << ") has the mesh size " << value
-                     << ": sizes must be positive";
-                error = text.str();
-              }
-          }
-      std::remove(file.c_str());
-      return error;
-    }
-
-
-
-    /**
      * In a child: the measure of the domain of @p path (from a coarse mesh)
      * and the longest element Gmsh makes on its curves with the file's
      * sizes, but none shorter than the size @p floor_size at which the
      * domain would hold 4 @p max_cells cells (a tiny size cannot make the
-     * estimate itself slow): "S<measure> <size>"; "E<what>" for sizes that
-     * are not positive; "" if the file defines no domain (the reader of
-     * the mesh says so later).
+     * estimate itself slow): "S<measure> <size>"; "" if the file defines no
+     * domain (the reader of the mesh says so later).
      */
     std::string
     estimate_sizes(const std::string &path,
@@ -183,8 +122,6 @@ namespace Signorini
       gmsh::option::setNumber("General.Verbosity", 0);
       gmsh::open(path);
       gmsh::option::setNumber("General.NumThreads", 1);
-      if (const std::string error = check_sizes(); !error.empty())
-        return "E" + error;
       gmsh::vectorpair domains;
       gmsh::model::getEntities(domains, dim);
       if (domains.empty())
@@ -198,6 +135,15 @@ namespace Signorini
       // (the file's Mesh.MeshSizeFactor scales every size Gmsh computes,
       // the coarse mesh of the measure's too: applied to the result)
       gmsh::option::getNumber("Mesh.MeshSizeFactor", size_factor);
+      // A point size < 0 makes Gmsh throw where it cannot be caught (the
+      // child then reports "Wrong mesh element size"). Scaled by 1e300, any
+      // positive size gives one element per curve: a quick 1D mesh finds
+      // such sizes before the floor below would hide them.
+      gmsh::option::setNumber("Mesh.MeshSizeFactor", 1e300);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0.);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", diameter);
+      gmsh::model::mesh::generate(1);
+      gmsh::model::mesh::clear();
       gmsh::option::setNumber("Mesh.MeshSizeFactor", 1.);
       gmsh::option::setNumber("Mesh.MeshSizeMin", diameter / 20.);
       gmsh::option::setNumber("Mesh.MeshSizeMax", diameter / 20.);
@@ -222,16 +168,10 @@ namespace Signorini
 
 
 
-    /// In a child: the mesh of @p path as Gmsh makes it, the text of an
-    /// ASCII msh 4.1 file.
+    /// In a child: the mesh of @p path as Gmsh makes it, as bytes.
     std::string
     mesh_in_child(const std::string &path, const unsigned int dim)
     {
-      // Gmsh writes meshes to files only: a private temporary one
-      const std::string mesh_file =
-        (std::filesystem::temp_directory_path() /
-         ("signorini-" + std::to_string(::getpid()) + ".msh"))
-          .string();
       // (not the user's Gmsh configuration files: the same mesh everywhere)
       gmsh::initialize(0, nullptr, false);
       gmsh::option::setNumber("General.Terminal", 0);
@@ -239,21 +179,9 @@ namespace Signorini
       gmsh::open(path);
       gmsh::option::setNumber("General.NumThreads", 1);
       gmsh::model::mesh::generate(dim);
-      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-      gmsh::option::setNumber("Mesh.Binary", 0);
-      gmsh::option::setNumber("Mesh.SaveAll", 0);
-      gmsh::option::setNumber("Mesh.SaveParametric", 0);
-      gmsh::write(mesh_file);
+      const std::string bytes = GmshModelMesh::of_current_model().to_bytes();
       gmsh::finalize();
-      std::ifstream in(mesh_file, std::ios::binary);
-      std::string   text((std::istreambuf_iterator<char>(in)),
-                       std::istreambuf_iterator<char>());
-      const bool    read = in.good() || in.eof();
-      std::remove(mesh_file.c_str());
-      if (!read)
-        throw std::runtime_error("cannot read the mesh Gmsh wrote to <" +
-                                 mesh_file + ">");
-      return text;
+      return bytes;
     }
 
 
@@ -272,80 +200,63 @@ namespace Signorini
 
 
 
-    /// mesh_geometry_file() on this rank.
-    std::string
-    mesh_here(const std::string &path,
-              const unsigned int dim,
-              const double       max_cells)
-    {
-      if (!std::filesystem::is_regular_file(path))
-        throw InputError("cannot open geometry file <" + path + ">");
-      const std::string what = "geometry file <" + path + ">: ";
-      try
-        {
-          const std::string estimate = run_in_gmsh_child(
-            [&]() { return estimate_sizes(path, dim, max_cells); },
-            "estimating the mesh of " + path);
-          if (!estimate.empty() && estimate[0] == 'E')
-            throw InputError(what + estimate.substr(1));
-          std::istringstream numbers(
-            estimate.substr(std::min<std::size_t>(1, estimate.size())));
-          double measure = 0, size = 0;
-          if (numbers >> measure >> size && size > 0)
-            {
-              const double n_cells =
-                measure / (unit_measure(dim) * std::pow(size, dim));
-              if (n_cells > max_cells)
-                {
-                  std::ostringstream n;
-                  n << std::setprecision(2) << n_cells << " "
-                    << (dim == 2 ? "triangles (its area " :
-                                   "tetrahedra (its volume ")
-                    << std::setprecision(4) << measure
-                    << " over cells of the largest size on its curves, " << size
-                    << ")";
-                  throw InputError(
-                    what + "its mesh sizes would make at least about " +
-                    n.str() + ", more than Maximum cells = " +
-                    cell_count(max_cells) + "; refused before meshing");
-                }
-            }
-          return run_in_gmsh_child([&]() { return mesh_in_child(path, dim); },
-                                   "meshing " + path + " in " +
-                                     std::to_string(dim) + "D");
-        }
-      catch (const InputError &)
-        {
-          throw;
-        }
-      catch (const std::exception &exc)
-        {
-          throw InputError(what + one_line_message(exc.what()));
-        }
-    }
   } // namespace
 
 
 
-  std::string
-  mesh_geometry_file(const std::string &path,
-                     const unsigned int dim,
-                     const double       max_cells)
+  GmshModelMesh
+  mesh_geometry(const std::string &path,
+                const unsigned int dim,
+                const double       max_cells)
   {
-    const MPI_Comm communicator = MPI_COMM_WORLD;
-    std::string    error, text;
-    if (dealii::Utilities::MPI::this_mpi_process(communicator) == 0)
-      try
-        {
-          text = mesh_here(path, dim, max_cells);
-        }
-      catch (const std::exception &exc)
-        {
-          error = exc.what();
-        }
-    error = dealii::Utilities::MPI::broadcast(communicator, error);
-    if (!error.empty())
-      throw InputError(error);
-    return dealii::Utilities::MPI::broadcast(communicator, text);
+    if (!std::filesystem::is_regular_file(path))
+      throw InputError("cannot open geometry file <" + path + ">");
+    const std::string what = "geometry file <" + path + ">: ";
+    try
+      {
+        const std::string estimate = run_in_gmsh_child(
+          [&]() { return estimate_sizes(path, dim, max_cells); },
+          "estimating the mesh of " + path);
+        std::istringstream numbers(
+          estimate.substr(std::min<std::size_t>(1, estimate.size())));
+        double measure = 0, size = 0;
+        if (numbers >> measure >> size && size > 0)
+          {
+            const double n_cells =
+              measure / (unit_measure(dim) * std::pow(size, dim));
+            if (n_cells > max_cells)
+              {
+                std::ostringstream n;
+                n << std::setprecision(2) << n_cells << " "
+                  << (dim == 2 ? "triangles (its area " :
+                                 "tetrahedra (its volume ")
+                  << std::setprecision(4) << measure
+                  << " over cells of the largest size on its curves, " << size
+                  << ")";
+                throw InputError(
+                  what + "its mesh sizes would make at least about " + n.str() +
+                  ", more than Maximum cells = " + cell_count(max_cells) +
+                  "; refused before meshing");
+              }
+          }
+        return GmshModelMesh::from_bytes(
+          run_in_gmsh_child([&]() { return mesh_in_child(path, dim); },
+                            "meshing " + path + " in " + std::to_string(dim) +
+                              "D"));
+      }
+    catch (const InputError &)
+      {
+        throw;
+      }
+    catch (const std::exception &exc)
+      {
+        // (Gmsh 4.8 names neither the point nor its size)
+        const std::string message = one_line_message(exc.what());
+        throw InputError(
+          what + message +
+          (message.find("Wrong mesh element size") != std::string::npos ?
+             " (are the mesh sizes of its points positive?)" :
+             ""));
+      }
   }
 } // namespace Signorini

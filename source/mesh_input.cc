@@ -1,8 +1,6 @@
 #include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_tools.h>
 
-#include <signorini/gmsh_file_check.h>
-#include <signorini/gmsh_geometry.h>
+#include <signorini/gmsh_mesh.h>
 #include <signorini/input_error.h>
 #include <signorini/mesh_input.h>
 #include <signorini/registry.h>
@@ -40,20 +38,20 @@ namespace Signorini
                         Patterns::Selection(source_names<dim>().selection()),
                         "'block': the unit square of the paper's example, "
                         "generated; 'file': read 'File name'.");
-      prm.declare_entry("File name",
-                        "",
-                        Patterns::Anything(),
-                        dim == 2 ?
-                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of triangles, or "
-                          "a .geo that Gmsh meshes when it is read; "
-                          "physical curve tags are boundary ids (do not use "
-                          "0); a relative path is taken from the directory "
-                          "of the parameter file." :
-                          "ASCII Gmsh mesh (msh 2.2 or 4.x) of tetrahedra, "
-                          "or a .geo that Gmsh meshes when it is read; "
-                          "physical surface tags are boundary ids (do not "
-                          "use 0); a relative path is taken from the "
-                          "directory of the parameter file.");
+      prm.declare_entry(
+        "File name",
+        "",
+        Patterns::Anything(),
+        dim == 2 ? "Gmsh mesh (.msh, any format Gmsh reads) of triangles, or "
+                   "a .geo that Gmsh meshes when it is read; "
+                   "physical curve tags are boundary ids (do not use "
+                   "0); a relative path is taken from the directory "
+                   "of the parameter file." :
+                   "Gmsh mesh (.msh, any format Gmsh reads) of tetrahedra, "
+                   "or a .geo that Gmsh meshes when it is read; "
+                   "physical surface tags are boundary ids (do not "
+                   "use 0); a relative path is taken from the "
+                   "directory of the parameter file.");
       prm.declare_entry("Geometry file",
                         "",
                         Patterns::Anything(),
@@ -276,32 +274,20 @@ namespace Signorini
   {
     if (!file_mesh_read)
       {
-        // The file is checked by a strict parser first: deal.II's reader
-        // trusts it and crashes, hangs or allocates without bound on a
-        // corrupted one, and it would accept degenerate cells and nodes at
-        // the same point, which only fail in the solver.
+        // Gmsh reads the file (or meshes the geometry) and the mesh is
+        // checked before anything is built from it: deal.II would accept
+        // degenerate cells and nodes at the same point, which only fail in
+        // the solver.
         const std::string path = path_of(file_name);
-        auto              mesh = std::make_shared<GmshMesh<dim>>();
         try
           {
-            // a geometry is meshed by Gmsh first, with its own sizes
-            const bool geometry =
-              path.size() > 4 && path.compare(path.size() - 4, 4, ".geo") == 0;
-            *mesh =
-              geometry ?
-                read_gmsh_text<dim>(path + " as meshed by Gmsh",
-                                    mesh_geometry_file(path, dim, max_cells)) :
-                read_gmsh_file<dim>(path);
+            file_mesh_read = std::make_shared<GmshMesh<dim>>(
+              read_gmsh_mesh<dim>(path, max_cells));
           }
         catch (const InputError &exc)
           {
             throw InputError(std::string("Mesh/File name: ") + exc.what());
           }
-        // as GridIn::read_msh() does: clockwise triangles are turned
-        if constexpr (dim == 2)
-          GridTools::invert_cells_with_negative_measure(mesh->vertices,
-                                                        mesh->cells);
-        file_mesh_read = mesh;
       }
     return *file_mesh_read;
   }

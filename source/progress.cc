@@ -11,7 +11,8 @@ namespace Signorini
 
   Progress::Progress(const std::string &phase, const MPI_Comm communicator)
     : phase(phase)
-    , root(Utilities::MPI::this_mpi_process(communicator) == 0)
+    , root(!Utilities::MPI::job_supports_mpi() ||
+           Utilities::MPI::this_mpi_process(communicator) == 0)
     , next_line(interval)
   {}
 

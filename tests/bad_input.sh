@@ -217,6 +217,7 @@ mesh_ok() {
 
 mesh_ok "Gmsh 2.2 mesh" "$msh22"
 mesh_ok "Gmsh 4.1 mesh" "$msh41"
+mesh_ok "Gmsh 4.1 binary mesh" "$src/tests/meshes/square-41-binary.msh"
 awk '$2 == 2 && NF == 8 { t = $7; $7 = $8; $8 = t } { print }' "$msh22" \
   > "$work/clockwise.msh"
 mesh_ok "clockwise triangles" "$work/clockwise.msh"
@@ -235,68 +236,72 @@ valid_prm "a computation on the Gmsh 4.1 mesh" "$work/case.prm"
 
 # not a usable file
 printf '$MeshFormat\n4.1 1 8\n\001\000\000\000\n$EndMeshFormat\n' > "$work/binary.msh"
-mesh_case "binary Gmsh file" "is a binary Gmsh file; save it as ASCII" "$work/binary.msh"
+mesh_case "binary file with a header only" "binary.msh>: contains no triangles" "$work/binary.msh"
 : > "$work/empty.msh"
 mesh_case "empty mesh file" "empty.msh> is empty" "$work/empty.msh"
 mesh_case "mesh file is a directory" "it is a directory" "$work"
 mesh_case "mesh file /dev/zero (endless)" "it is not a regular file" /dev/zero
 sed '2s/^2.2 /3.0 /' "$msh22" > "$work/v3.msh"
-mesh_case "msh 3" "version <3.0> is not supported" "$work/v3.msh"
+mesh_case "msh 3 header on an msh 2 body" "cannot read mesh file <$work/v3.msh>: Gmsh: Error loading" "$work/v3.msh"
 
 # structure: counts, sections, numbers (deal.II's reader crashed, aborted or
 # hung on the first ones)
 sed '2s/^2.2 /4.1 /' "$msh22" > "$work/mixed.msh"
-mesh_case "2.2 body under a 4.1 header" 'line 5: the header of $Nodes' "$work/mixed.msh"
+mesh_case "2.2 body under a 4.1 header" 'mixed.msh>: Gmsh: Could not read nodes' "$work/mixed.msh"
 sed '5s/^12$/14/' "$msh22" > "$work/more-nodes.msh"
-mesh_case "2.2: node count too large" 'found <$EndNodes> where node 13 of 14' "$work/more-nodes.msh"
+mesh_case "2.2: node count too large" 'more-nodes.msh>: Gmsh: Error loading' "$work/more-nodes.msh"
 sed '5s/^12$/11/' "$msh22" > "$work/fewer-nodes.msh"
-mesh_case "2.2: node count too small" 'line 17: expected $EndNodes, found <12 ' "$work/fewer-nodes.msh"
+# (Gmsh 4.8 then reads past its node table: it crashes, or gives a node of
+# garbage tag)
+mesh_case "2.2: node count too small" 'fewer-nodes.msh>: .*\(Gmsh: it crashed\|element 13 refers to node [0-9]*, which is not in the mesh\)' "$work/fewer-nodes.msh"
 sed 's/^13 12 1 12$/13 14 1 12/' "$msh41" > "$work/more-nodes41.msh"
-mesh_case "4.1: node count too large" '$Nodes announces 14 nodes, its blocks hold 12' "$work/more-nodes41.msh"
+# (the blocks hold the whole mesh: Gmsh reads it, and so do we)
+mesh_ok "4.1: node count too large" "$work/more-nodes41.msh"
 sed 's/^2 1 0 4$/2 1 0 3/' "$msh41" > "$work/short-block.msh"
-mesh_case "4.1: node block count too small" "coordinates of node 9 " "$work/short-block.msh"
+mesh_case "4.1: node block count too small" "short-block.msh>: Gmsh: Unknown node 12 in element 13" "$work/short-block.msh"
 sed 's/^7 22 1 22$/8 22 1 22/' "$msh41" > "$work/more-blocks.msh"
 mesh_case "4.1: element block count too large" \
-  'found <$EndElements> where the header of element block 8 of 8' "$work/more-blocks.msh"
+  'more-blocks.msh>: Gmsh: Could not read elements' "$work/more-blocks.msh"
 sed 's/^7 22 1 22$/6 22 1 22/' "$msh41" > "$work/fewer-blocks.msh"
+# (Gmsh stops at the announced block count: 14 triangles silently lost)
 mesh_case "4.1: element block count too small" \
-  '$Elements announces 22 elements, its blocks hold 8' "$work/fewer-blocks.msh"
+  '$Elements announces 22 elements, Gmsh read 8' "$work/fewer-blocks.msh"
 sed 's/^13 12 1 12$/13 -12 1 12/' "$msh41" > "$work/negative.msh"
-mesh_case "negative node count" "number of nodes -12 is below 0" "$work/negative.msh"
+mesh_case "negative node count" "negative.msh>: Gmsh: Gmsh ran out of memory reading it" "$work/negative.msh"
 sed '5s/^12$/1000000000000/' "$msh22" > "$work/huge.msh"
-mesh_case "node count 1e12" "node 13 of 1000000000000 was expected" "$work/huge.msh"
+mesh_case "node count 1e12" "huge.msh>: Gmsh: Wrong node index 1" "$work/huge.msh"
 sed 's/^2 1 0 4$/2 1 0 1000000000000/' "$msh41" > "$work/huge-block.msh"
 mesh_case "node block of 1e12 nodes" \
-  'node block 13 of 13 has 1000000000000 nodes, but $Nodes announces 12' "$work/huge-block.msh"
+  'huge-block.msh>: Gmsh: Gmsh ran out of memory reading it' "$work/huge-block.msh"
 sed 's/^9 0.2937499999998369 /9 0.29x /' "$msh22" > "$work/letters.msh"
-mesh_case "non-numeric coordinate" "line 14: coordinate of node 9 <0.29x> is not a finite number" \
+mesh_case "non-numeric coordinate" "cannot read mesh file <$work/letters.msh>: Gmsh: Error loading" \
   "$work/letters.msh"
 sed 's/^9 0.2937499999998369 /9 nan /' "$msh22" > "$work/nan.msh"
-mesh_case "NaN coordinate" "coordinate of node 9 <nan> is not a finite number" "$work/nan.msh"
+mesh_case "NaN coordinate" "nan.msh>: node 9 has a coordinate that is not a finite number" "$work/nan.msh"
 sed 's/^22 2 2 1 1 8 9 11$/22 2 2 1 1 8 9 99/' "$msh22" > "$work/missing-node.msh"
-mesh_case "element on a missing node" "line 42: element 22 refers to node 99, which is not in" \
+mesh_case "element on a missing node" "missing-node.msh>: Gmsh: Wrong node index 99" \
   "$work/missing-node.msh"
 head -n 70 "$msh41" > "$work/truncated.msh"
-mesh_case "truncated between lines" 'line 70: the file ends where the header of element block 5 of 7' \
+mesh_case "truncated between lines" 'truncated.msh>: Gmsh: Could not read elements' \
   "$work/truncated.msh"
 head -c 1000 "$msh41" > "$work/truncated-in-line.msh"
 mesh_case "truncated inside a line" "cannot read mesh file" "$work/truncated-in-line.msh"
 sed '/^\$EndNodes$/d' "$msh22" > "$work/no-end.msh"
-mesh_case "section not closed" 'expected $EndNodes, found <$Elements>' "$work/no-end.msh"
+# (Gmsh reads past a missing section end; the mesh is complete)
+mesh_ok "section not closed" "$work/no-end.msh"
 sed '3a $PhysicalNames\n1\n1 2 "contact zone"' "$msh22" > "$work/names-open.msh"
-mesh_case "unclosed \$PhysicalNames (deal.II hung)" \
-  'expected $EndPhysicalNames, found <$Nodes>' "$work/names-open.msh"
+mesh_ok "unclosed \$PhysicalNames (deal.II hung)" "$work/names-open.msh"
 sed 's/^0 1 0 1$/0 1 1 1/' "$msh41" > "$work/parametric.msh"
-mesh_case "parametric nodes" "has parametric coordinates" "$work/parametric.msh"
+mesh_ok "parametric nodes" "$work/parametric.msh"
 sed 's/^1 1 1 2$/1 9 1 2/' "$msh41" > "$work/entity.msh"
-mesh_case "element block on an undeclared curve" "refers to entity 9 of dimension 1, which is not in" \
+mesh_case "element block on an undeclared curve" "entity.msh>: Gmsh: Unknown entity 9 of dimension 1" \
   "$work/entity.msh"
 sed 's/^1 0 0 0 1 0 0 1 2 2 1 -2 $/1 0 0 0 1 0 0 2 2 7 2 1 -2/' "$msh41" > "$work/two-groups.msh"
 mesh_case "curve in two physical groups" "curve 1 belongs to 2 physical groups" "$work/two-groups.msh"
 
 # element types
 sed 's/^9 2 2 1 1 5 6 11$/9 3 2 1 1 5 6 11 12/' "$msh22" > "$work/quad.msh"
-mesh_case "quadrilateral" "line 29: quadrilateral elements (type 3) are not supported" "$work/quad.msh"
+mesh_case "quadrilateral" "quad.msh>: quadrilateral elements (type 3) are not supported" "$work/quad.msh"
 sed 's/^9 2 2 1 1 5 6 11$/9 4 2 1 1 5 6 11 12/' "$msh22" > "$work/tet.msh"
 mesh_case "tetrahedron in 2D" "tetrahedra (type 4) are 3D elements: signorini reads them with Dimension = 3" "$work/tet.msh"
 sed 's/^9 2 2 1 1 5 6 11$/9 9 2 1 1 5 6 11 1 2 3/' "$msh22" > "$work/tri6.msh"
@@ -306,7 +311,7 @@ mesh_case "lines only (1D mesh)" "contains no triangles" "$work/lines.msh"
 
 # degenerate meshes (--validate accepted them; the solver failed)
 sed 's/^9 0.2937499999998369 0.293750000000552 0$/9 0.25 0 0/' "$msh22" > "$work/flat.msh"
-mesh_case "zero-area triangle" "line 36: triangle 16 has zero area: its nodes 1 (0, 0), 7 (0.5, 0), 9 (0.25, 0)" \
+mesh_case "zero-area triangle" "flat.msh>: triangle 16 has zero area: its nodes 1 (0, 0), 7 (0.5, 0), 9 (0.25, 0)" \
   "$work/flat.msh"
 sed 's/^12$/13/; s/^\$EndNodes$/13 0.499999999998694 0 0\n$EndNodes/
      s/^16 2 2 1 1 1 7 9$/16 2 2 1 1 1 13 9/' "$msh22" > "$work/twin.msh"
@@ -315,7 +320,8 @@ mesh_case "two nodes at one point (a crack)" "nodes 7 and 13 are at the same poi
 sed 's/^22$/23/; s/^\$EndElements$/23 2 2 1 1 8 9 11\n$EndElements/' "$msh22" > "$work/twice.msh"
 mesh_case "repeated triangle" "triangles 22 and 23 overlap" "$work/twice.msh"
 sed 's/^22$/23/; s/^\$EndElements$/23 1 2 7 1 9 11\n$EndElements/' "$msh22" > "$work/inner.msh"
-mesh_case "boundary id on an interior edge" "line element 23 (physical tag 7, nodes 9 and 11) lies inside" \
+# (an msh 2 element tags itself; Gmsh gives the tags to the curve)
+mesh_case "boundary id on an interior edge" "inner.msh>: curve 1 belongs to 2 physical groups (tags 2 and 7)" \
   "$work/inner.msh"
 sed 's/^12 0.71874999999981 0.71874999999981 0$/12 0.71874999999981 0.71874999999981 0.5/' \
   "$msh22" > "$work/warped.msh"
@@ -340,7 +346,7 @@ $Elements
 3 2 2 1 1 5 4 3
 $EndElements
 MESH
-mesh_case "hanging node" "line 10: node 5 (1, 1) lies on the edge between nodes 2 and 3" \
+mesh_case "hanging node" "hanging.msh>: node 5 (1, 1) lies on the boundary edge between nodes 2 and 3" \
   "$work/hanging.msh"
 awk '$2 == 1 && NF == 7 { $4 = 0 } { print }' "$msh22" > "$work/no-ids.msh"
 mesh_case "no boundary ids" "boundary id 1 does not exist in the mesh" "$work/no-ids.msh"
@@ -942,14 +948,14 @@ awk '/^\$EndNodes/ { print "13 2 0 0\n14 3 0 0\n15 2 1 0" }
      /^\$EndElements/ { print "23 2 2 1 1 13 14 15" } { print }' "$msh22" \
   > "$work/two-bodies.msh"
 mesh_case "two separate bodies" \
-  "two-bodies.msh> has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (2.33333, 0.333333)" \
+  "two-bodies.msh>: has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (2.33333, 0.333333)" \
   "$work/two-bodies.msh"
 awk '/^\$EndNodes/ { print "13 2 1 0\n14 2 2 0" }
      $0 == "12" && !n { $0 = "14"; n = 1 } $0 == "22" { $0 = "23" }
      /^\$EndElements/ { print "23 2 2 1 1 4 13 14" } { print }' "$msh22" \
   > "$work/corner.msh"
 mesh_case "two bodies sharing a corner" \
-  "corner.msh> has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (1.66667, 1.33333)" \
+  "corner.msh>: has 2 separate parts (one body is modelled); part 2 contains the triangle 23 at (1.66667, 1.33333)" \
   "$work/corner.msh"
 
 # extreme scales: refused before the solver sees overflowing numbers
@@ -963,7 +969,7 @@ mesh_case "mesh 1e-200 across" \
   "$work/small.msh"
 msh22_nodes "$work/far.msh" 'x = $2 * 1e90 + 1e160; y = $3 * 1e90'
 mesh_case "coordinates of 1e160" \
-  "far.msh>: line 6: node 1 has the coordinate 1e+160, beyond 1e150 in absolute value" \
+  "far.msh>: node 1 has the coordinate 1e+160, beyond 1e150 in absolute value" \
   "$work/far.msh"
 for scale in 1e90 1e-90; do
   msh22_nodes "$work/scaled.msh" "x = \$2 * $scale; y = \$3 * $scale"
@@ -1094,7 +1100,7 @@ add_elements() {
 }
 add_elements "$work/cube-twice.msh" 1 "1000 4 2 1 1 24 32 23 45"
 cube_case "3D: repeated tetrahedron" \
-  "line 196: tetrahedra 43 and 1000 overlap: they lie on the same side of their face" "$work/cube-twice.msh"
+  "cube-twice.msh>: tetrahedra 43 and 1000 overlap: they lie on the same side of their face" "$work/cube-twice.msh"
 add_elements "$work/cube-flat.msh" 1 "1000 4 2 1 1 1 2 3 4"
 cube_case "3D: zero-volume tetrahedron" \
   "tetrahedron 1000 has zero volume: its nodes 1 (0, 0, 0), 2 (1, 0, 0), 3 (1, 1, 0), 4 (0, 1, 0) are coplanar" \
@@ -1108,26 +1114,26 @@ cube_case "3D: hanging node on a boundary face" \
 add_elements "$work/cube-two.msh" 1 "1000 4 2 1 1 46 47 48 49"
 sed -i 's/^45$/49/; s/^\$EndNodes$/46 5 5 5\n47 6 5 5\n48 5 6 5\n49 5 5 6\n$EndNodes/' "$work/cube-two.msh"
 cube_case "3D: two bodies" \
-  "cube-two.msh> has 2 separate parts (one body is modelled); part 2 contains the tetrahedron 1000 at (5.25, 5.25, 5.25)" \
+  "cube-two.msh>: has 2 separate parts (one body is modelled); part 2 contains the tetrahedron 1000 at (5.25, 5.25, 5.25)" \
   "$work/cube-two.msh"
 add_elements "$work/cube-inner.msh" 1 "1000 2 2 5 5 24 32 45"
 cube_case "3D: boundary id inside the body" \
-  "triangle element 1000 (physical tag 5, nodes 24 .*) lies inside the mesh, between tetrahedra" "$work/cube-inner.msh"
+  "triangle element 1000 (physical tag 5, nodes 24, .*) lies inside the mesh, between tetrahedra" "$work/cube-inner.msh"
 add_elements "$work/cube-stray.msh" 1 "1000 2 2 5 5 1 7 45"
 cube_case "3D: boundary id on no face" "triangle element 1000 .* is not a face of any tetrahedron" \
   "$work/cube-stray.msh"
 add_elements "$work/cube-hex.msh" 1 "1000 5 2 1 1 1 2 3 4 5 6 7 8"
 cube_case "3D: hexahedron" \
-  "line 196: hexahedra, prisms and pyramids (type 5) are not supported: signorini needs a mesh of 4-node tetrahedra" \
+  "cube-hex.msh>: hexahedra (type 5) are not supported: signorini needs 4-node tetrahedra" \
   "$work/cube-hex.msh"
 cube_case "3D: a 2D mesh" \
-  "square-22.msh> contains no tetrahedra (Gmsh type 4): with Dimension = 3 signorini needs a 3D mesh" "$msh22"
+  "square-22.msh>: contains no tetrahedra: with Dimension = 3 signorini needs a 3D mesh" "$msh22"
 # a .geo is meshed by Gmsh first
 cube_case "3D: missing geometry" "Mesh/File name: cannot open geometry file <$work/none.geo>" "$work/none.geo"
 printf 'Point(1) = {0, 0, 0;\n' > "$work/broken.geo"
 cube_case "3D: geometry Gmsh cannot read" "Mesh/File name: geometry file <$work/broken.geo>: Gmsh failed" \
   "$work/broken.geo"
-cube_case "3D: geometry of a square" "square.geo as meshed by Gmsh> contains no tetrahedra" \
+cube_case "3D: geometry of a square" "square.geo as meshed by Gmsh>: contains no tetrahedra" \
   "$src/tests/meshes/square.geo"
 # the star patch on tetrahedra: P2 patches only
 { cube_prm "$cube"; printf 'subsection Error estimator\n  set Enable = true\n'
@@ -1445,14 +1451,14 @@ check "--print-parameters 4" "print-parameters 4: the dimension is 2 or 3" --pri
 
 # --- Gmsh on hostile geometry (issue 34) ---
 # Gmsh runs on a user's .geo in a child process: an abort, a segfault or an
-# Exit there is one error line, exit 1; sizes <= 0 and sizes that would make
-# more than Maximum cells are refused before meshing; a remeshing geometry
+# Exit there is one error line, exit 1 (with a hint for sizes <= 0); sizes
+# that would make more than Maximum cells are refused before meshing; a remeshing geometry
 # must be the domain of the mesh (one body, box, measure, boundary ids).
 geo_neg=$work/cube-negative.geo
 sed 's/, 0.5};/, -0.5};/' "$src/tests/meshes/cube.geo" > "$geo_neg"
 cube_case "Gmsh: negative sizes" \
-  "Mesh/File name: geometry file <$geo_neg>: Point(1) has the mesh size -0.5: sizes must be positive" "$geo_neg"
-check "Gmsh: negative sizes, --validate" "Point(1) has the mesh size -0.5" --validate "$work/cube.prm"
+  "Mesh/File name: geometry file <$geo_neg>: Gmsh failed: Wrong mesh element size .*(are the mesh sizes of its points positive?)" "$geo_neg"
+check "Gmsh: negative sizes, --validate" "are the mesh sizes of its points positive?" --validate "$work/cube.prm"
 { grep -v '^//' "$src/tests/meshes/cube.geo"
   printf 'Mesh.RecombineAll = 1;\nMesh.Recombine3DAll = 1;\nMesh.Algorithm = 8;\n'; } > "$work/cube-recombined.geo"
 cube_case "Gmsh: segfault on recombined 3D meshing" \
@@ -1485,7 +1491,7 @@ subsection Mesh
   set File name = $work/square-factor.geo
 end"
 sed 's/^lc = 0.5;/lc = -1;/' "$src/tests/meshes/square.geo" > "$work/square-negative.geo"
-case_prm "Gmsh: negative sizes in 2D" "Point(1) has the mesh size -1: sizes must be positive" \
+case_prm "Gmsh: negative sizes in 2D" "Wrong mesh element size .*(are the mesh sizes of its points positive?)" \
   "subsection Mesh
   set Source = file
   set File name = $work/square-negative.geo
@@ -1532,7 +1538,7 @@ hertz_remeshing "Gmsh: a mesh as the geometry" \
   printf 'Line(11) = {11, 12};\nLine(12) = {12, 13};\nLine(13) = {13, 11};\n'
   printf 'Curve Loop(11) = {11, 12, 13};\nPlane Surface(11) = {11};\nPhysical Surface(2) = {11};\n'; } > "$work/hertz-two.geo"
 hertz_remeshing "Gmsh: geometry of two bodies" \
-  "hertz-two.geo> is not the domain of the mesh .*: it holds 2 separate bodies" "$work/hertz-two.geo"
+  "Mesh/Geometry file: <$work/hertz-two.geo as meshed by Gmsh>: has 2 separate parts" "$work/hertz-two.geo"
 sed -e 's/Physical Surface(2) = {1};/Physical Surface(3) = {1};/' \
     -e 's/Physical Surface(3) = {out\[0\]};/Physical Surface(2) = {out[0]};/' \
     "$src/tests/meshes/cube.geo" > "$work/cube-swapped.geo"
@@ -1557,7 +1563,7 @@ if command -v mpirun > /dev/null; then
   chmod +x "$work/mpirun2.sh"
   serial_exe=$exe
   exe=$work/mpirun2.sh
-  cube_case "Gmsh, 2 ranks: negative sizes" "Point(1) has the mesh size -0.5" "$geo_neg"
+  cube_case "Gmsh, 2 ranks: negative sizes" "are the mesh sizes of its points positive?" "$geo_neg"
   cube_case "Gmsh, 2 ranks: segfault" "Gmsh failed: it crashed (signal 11, SIGSEGV)" "$work/cube-recombined.geo"
   cube_case "Gmsh, 2 ranks: tiny sizes" "more than Maximum cells = 4000000; refused before meshing" "$work/cube-tiny.geo"
   hertz_remeshing "Gmsh, 2 ranks: contact and loaded tags swapped" \

@@ -1,6 +1,8 @@
 #ifndef signorini_gmsh_geometry_h
 #define signorini_gmsh_geometry_h
 
+#include <signorini/gmsh_mesh.h>
+
 #include <string>
 
 namespace Signorini
@@ -8,9 +10,8 @@ namespace Signorini
   /**
    * Mesh the Gmsh geometry file @p path (.geo) in dimension @p dim with the
    * Gmsh C++ API, as `gmsh -dim path` would (the file's own size fields and
-   * options), on one thread so that every run and every rank gets the same
-   * mesh, and return that mesh as the text of an ASCII msh 4.1 file, for
-   * read_gmsh_text().
+   * options), on one thread so that every run gets the same mesh, and
+   * return the model's mesh (unchecked: checked_mesh() comes next).
    *
    * Gmsh runs in a child process (run_in_gmsh_child()): a crash of Gmsh on
    * the file is an error of the file, not of the program. Before the mesh
@@ -20,14 +21,13 @@ namespace Signorini
    * domain over that of a cell of the largest size Gmsh uses on its curves,
    * beyond @p max_cells is refused.
    *
-   * Collective on MPI_COMM_WORLD: rank 0 meshes, the other ranks receive the
-   * text. Throws InputError naming @p path on every rank if Gmsh cannot read
-   * or mesh the file, or if its sizes would make too many cells.
+   * Runs on the calling rank only. Throws InputError naming @p path if Gmsh
+   * cannot read or mesh the file, or if its sizes would make too many cells.
    */
-  std::string
-  mesh_geometry_file(const std::string &path,
-                     const unsigned int dim,
-                     const double       max_cells);
+  GmshModelMesh
+  mesh_geometry(const std::string &path,
+                const unsigned int dim,
+                const double       max_cells);
 } // namespace Signorini
 
 #endif

@@ -19,7 +19,7 @@ namespace Signorini
 
   /**
    * Where the initial mesh comes from: the block of the paper's
-   * section 7 generated in place, or an ASCII Gmsh file whose
+   * section 7 generated in place, or a Gmsh file (.msh, .geo) whose
    * physical curve tags become boundary ids (a relative file name is taken
    * from the directory of the parameter file).
    *
@@ -32,7 +32,7 @@ namespace Signorini
    *   4 right edge for y > 1/2, 6 right edge for y < 1/2.
    * In 3D the block is extruded to (0,1)^3 in tetrahedra: the same ids on
    * the faces x, y = const, and 7 on z = 0 and z = 1. A Gmsh file holds
-   * triangles in 2D and tetrahedra in 3D (read_gmsh_file()).
+   * triangles in 2D and tetrahedra in 3D (read_gmsh_mesh()).
    */
   template <int dim>
   class MeshInput
@@ -67,9 +67,8 @@ namespace Signorini
     path_of(const std::string &name) const;
 
     /// Fill the (empty) @p triangulation with the initial mesh, refined
-    /// "Initial refinements" times. Throws InputError for unreadable,
-    /// malformed or binary files and for degenerate meshes (see
-    /// read_gmsh_file()).
+    /// "Initial refinements" times. Throws InputError for files Gmsh
+    /// cannot read and for degenerate meshes (see read_gmsh_mesh()).
     void
     create(Triangulation<dim> &triangulation) const;
 

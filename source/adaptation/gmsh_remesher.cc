@@ -1,21 +1,16 @@
 #include <deal.II/base/mpi.h>
 
-#include <deal.II/grid/grid_tools.h>
-
 #include <signorini/adaptation/gmsh_remesher.h>
 #include <signorini/cell_locator.h>
 #include <signorini/domain_summary.h>
 #include <signorini/gmsh_child_process.h>
-#include <signorini/gmsh_file_check.h>
+#include <signorini/gmsh_mesh.h>
 #include <signorini/input_error.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <gmsh.h>
-#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -67,16 +62,6 @@ namespace Signorini
           log_size[v] /= n_cells[v];
       return log_size;
     }
-
-
-
-    /// The mesh Gmsh made, flat, as rank 0 sends it to the others.
-    struct FlatMesh
-    {
-      std::vector<double>       coordinates; // dim coordinates per vertex
-      std::vector<unsigned int> cells;       // dim + 1 vertices per cell
-      std::vector<unsigned int> boundary;    // dim vertices and the id per face
-    };
 
 
 
@@ -145,107 +130,12 @@ namespace Signorini
 
 
 
-    /// @p flat as bytes, to pass it from Gmsh's child process.
-    std::string
-    serialize(const FlatMesh &flat)
-    {
-      std::string bytes;
-      const auto  put = [&](const auto &values) {
-        const std::uint64_t n = values.size();
-        bytes.append(reinterpret_cast<const char *>(&n), sizeof(n));
-        bytes.append(reinterpret_cast<const char *>(values.data()),
-                     n * sizeof(values[0]));
-      };
-      put(flat.coordinates);
-      put(flat.cells);
-      put(flat.boundary);
-      return bytes;
-    }
-
-
-
-    /// The inverse of serialize().
-    FlatMesh
-    deserialize(const std::string &bytes)
-    {
-      FlatMesh    flat;
-      std::size_t position = 0;
-      const auto  get      = [&](auto &values) {
-        std::uint64_t n = 0;
-        AssertThrow(position + sizeof(n) <= bytes.size(),
-                    ExcMessage("truncated mesh from Gmsh"));
-        std::memcpy(&n, bytes.data() + position, sizeof(n));
-        position += sizeof(n);
-        AssertThrow(n <= (bytes.size() - position) / sizeof(values[0]),
-                    ExcMessage("truncated mesh from Gmsh"));
-        values.resize(n);
-        std::memcpy(values.data(),
-                    bytes.data() + position,
-                    n * sizeof(values[0]));
-        position += n * sizeof(values[0]);
-      };
-      get(flat.coordinates);
-      get(flat.cells);
-      get(flat.boundary);
-      return flat;
-    }
-
-
-
-    /// The vertices, cells and boundary faces of @p flat, as
-    /// Triangulation::create_triangulation() takes them: cells of negative
-    /// measure turned, as the Gmsh reader does.
-    template <int dim>
-    void
-    unflatten(const FlatMesh             &flat,
-              std::vector<Point<dim>>    &vertices,
-              std::vector<CellData<dim>> &cells,
-              SubCellData                &boundary)
-    {
-      vertices.resize(flat.coordinates.size() / dim);
-      for (unsigned int v = 0; v < vertices.size(); ++v)
-        for (unsigned int d = 0; d < dim; ++d)
-          vertices[v][d] = flat.coordinates[dim * v + d];
-      cells.assign(flat.cells.size() / (dim + 1), CellData<dim>(dim + 1));
-      for (unsigned int c = 0; c < cells.size(); ++c)
-        {
-          for (unsigned int v = 0; v <= dim; ++v)
-            cells[c].vertices[v] = flat.cells[(dim + 1) * c + v];
-          if constexpr (dim == 3)
-            {
-              Tensor<2, dim> edges;
-              for (unsigned int k = 1; k <= dim; ++k)
-                edges[k - 1] = vertices[cells[c].vertices[k]] -
-                               vertices[cells[c].vertices[0]];
-              if (determinant(edges) < 0)
-                std::swap(cells[c].vertices[1], cells[c].vertices[2]);
-            }
-        }
-      if constexpr (dim == 2)
-        GridTools::invert_cells_with_negative_measure(vertices, cells);
-      boundary = SubCellData();
-      for (unsigned int f = 0; (dim + 1) * f < flat.boundary.size(); ++f)
-        {
-          CellData<dim - 1> face(dim);
-          for (unsigned int v = 0; v < dim; ++v)
-            face.vertices[v] = flat.boundary[(dim + 1) * f + v];
-          face.boundary_id = flat.boundary[(dim + 1) * f + dim];
-          if constexpr (dim == 2)
-            boundary.boundary_lines.push_back(face);
-          else
-            boundary.boundary_quads.push_back(face);
-        }
-    }
-
-
-
     /// Mesh the geometry Gmsh holds with the remeshing's options, the size
-    /// at a point given by @p size_at, and flatten the result.
+    /// at a point given by @p size_at, and return the mesh as bytes.
     template <int dim>
-    FlatMesh
+    std::string
     mesh_gmsh_model(const std::function<double(const Point<dim> &)> &size_at)
     {
-      FlatMesh flat;
       // (after the file, which may set options of its own; the default
       // of every option a file could set to make other cells than
       // simplices)
@@ -274,56 +164,7 @@ namespace Signorini
           return size_at(p);
         });
       gmsh::model::mesh::generate(dim);
-
-      std::vector<std::size_t> node_tags;
-      std::vector<double>      coordinates, parametric;
-      gmsh::model::mesh::getNodes(node_tags, coordinates, parametric);
-      std::map<std::size_t, unsigned int> vertex_of_tag;
-      std::vector<std::size_t>            element_tags, element_nodes;
-      // Gmsh's element types: 1 line, 2 triangle, 4 tetrahedron
-      const int cell_type = (dim == 2) ? 2 : 4, face_type = dim - 1;
-      gmsh::model::mesh::getElementsByType(cell_type,
-                                           element_tags,
-                                           element_nodes);
-      std::map<std::size_t, unsigned int> index_of_node;
-      for (unsigned int n = 0; n < node_tags.size(); ++n)
-        index_of_node[node_tags[n]] = n;
-      const auto vertex = [&](const std::size_t tag) {
-        const auto [entry, inserted] =
-          vertex_of_tag.emplace(tag, vertex_of_tag.size());
-        if (inserted)
-          for (unsigned int d = 0; d < dim; ++d)
-            flat.coordinates.push_back(
-              coordinates[3 * index_of_node.at(tag) + d]);
-        return entry->second;
-      };
-      for (const std::size_t tag : element_nodes)
-        flat.cells.push_back(vertex(tag));
-
-      gmsh::vectorpair groups;
-      gmsh::model::getPhysicalGroups(groups, dim - 1);
-      for (const auto &[group_dim, id] : groups)
-        {
-          std::vector<int> entities;
-          gmsh::model::getEntitiesForPhysicalGroup(group_dim, id, entities);
-          for (const int entity : entities)
-            {
-              // (Gmsh 4.8 leaves non-empty outputs as they are)
-              element_tags.clear();
-              element_nodes.clear();
-              gmsh::model::mesh::getElementsByType(face_type,
-                                                   element_tags,
-                                                   element_nodes,
-                                                   entity);
-              for (unsigned int e = 0; e < element_tags.size(); ++e)
-                {
-                  for (unsigned int v = 0; v < dim; ++v)
-                    flat.boundary.push_back(vertex(element_nodes[dim * e + v]));
-                  flat.boundary.push_back(id);
-                }
-            }
-        }
-      return flat;
+      return GmshModelMesh::of_current_model().to_bytes();
     }
 
 
@@ -332,7 +173,7 @@ namespace Signorini
     /// the file is reported, not suffered), the size at a point given by
     /// @p size_at.
     template <int dim>
-    FlatMesh
+    GmshModelMesh
     mesh_with_gmsh(const std::string &geometry_file,
                    const std::function<double(const Point<dim> &)> &size_at)
     {
@@ -348,26 +189,30 @@ namespace Signorini
           }
         else
           gmsh::open(geometry_file);
-        const std::string bytes = serialize(mesh_gmsh_model<dim>(size_at));
+        const std::string bytes = mesh_gmsh_model<dim>(size_at);
         gmsh::finalize();
         return bytes;
       };
-      FlatMesh flat;
+      GmshModelMesh model;
       try
         {
-          flat = deserialize(run_in_gmsh_child(job,
-                                               "remeshing " +
-                                                 (geometry_file.empty() ?
-                                                    std::string("the block") :
-                                                    geometry_file) +
-                                                 " in " + std::to_string(dim) +
-                                                 "D"));
+          model = GmshModelMesh::from_bytes(
+            run_in_gmsh_child(job,
+                              "remeshing " +
+                                (geometry_file.empty() ?
+                                   std::string("the block") :
+                                   geometry_file) +
+                                " in " + std::to_string(dim) + "D"));
         }
       catch (const std::exception &exc)
         {
           throw std::runtime_error(gmsh_failure(geometry_file, exc.what()));
         }
-      if (flat.cells.empty())
+      if (std::none_of(model.blocks.begin(),
+                       model.blocks.end(),
+                       [](const GmshModelMesh::Block &block) {
+                         return block.type == (dim == 2 ? 2 : 4);
+                       }))
         throw std::runtime_error(
           "Mesh adaptation/Realisation = remeshing: Gmsh made no " +
           std::string(dim == 2 ? "triangles" : "tetrahedra") +
@@ -375,7 +220,7 @@ namespace Signorini
              std::string() :
              " from <" + geometry_file + "> (does it define a " +
                (dim == 2 ? "plane surface" : "volume") + "?)"));
-      return flat;
+      return model;
     }
   } // namespace
 
@@ -446,8 +291,8 @@ namespace Signorini
               (x1 - x0) * (y1 - y0) * (dim == 3 ? z1 - z0 : 1.);
             const double size =
               std::max(mesh_size, gmsh_size_of<dim>(box_measure / 2e5));
-            const std::string bytes = serialize(mesh_gmsh_model<dim>(
-              [size](const Point<dim> &) { return size; }));
+            const std::string bytes =
+              mesh_gmsh_model<dim>([size](const Point<dim> &) { return size; });
             gmsh::finalize();
             return "M" + bytes;
           };
@@ -466,20 +311,24 @@ namespace Signorini
           if (result.empty() || result[0] == 'E')
             throw InputError("Mesh/Geometry file: <" + path +
                              ">: " + (result.empty() ? "" : result.substr(1)));
-          std::vector<Point<dim>>    vertices;
-          std::vector<CellData<dim>> cells;
-          SubCellData                boundary;
-          unflatten(deserialize(result.substr(1)), vertices, cells, boundary);
-          const DomainSummary<dim> geometry(vertices, cells, boundary);
-          std::string              difference;
-          if (cells.empty())
-            difference = std::string("Gmsh makes no ") +
-                         (dim == 2 ? "triangles" : "tetrahedra") + " from it";
-          else if (geometry.n_bodies > 1)
-            difference = "it holds " + std::to_string(geometry.n_bodies) +
-                         " separate bodies (one body is modelled)";
-          else
-            difference = geometry.difference_from(mesh_summary, 2e-2);
+          // (the checks of any mesh: one body among them)
+          GmshMesh<dim> geometry_mesh;
+          try
+            {
+              geometry_mesh =
+                checked_mesh<dim>(GmshModelMesh::from_bytes(result.substr(1)),
+                                  path + " as meshed by Gmsh");
+            }
+          catch (const InputError &exc)
+            {
+              throw InputError("Mesh/Geometry file: " +
+                               std::string(exc.what()));
+            }
+          const DomainSummary<dim> geometry(geometry_mesh.vertices,
+                                            geometry_mesh.cells,
+                                            geometry_mesh.boundary);
+          const std::string        difference =
+            geometry.difference_from(mesh_summary, 2e-2);
           if (!difference.empty())
             throw InputError("Mesh/Geometry file: <" + path +
                              "> is not the domain of the mesh <" +
@@ -510,7 +359,7 @@ namespace Signorini
   {
     // (check_geometry() ran at input)
     const MPI_Comm communicator = MPI_COMM_WORLD;
-    FlatMesh       flat;
+    std::string    bytes;
     // rank 0 meshes; a failure there is sent to every rank with the (empty)
     // mesh, so that all stop together
     std::string failure;
@@ -534,11 +383,12 @@ namespace Signorini
               }
             return std::exp(log_value / weight_sum);
           };
-          flat =
+          bytes =
             mesh_with_gmsh<dim>(input.source == MeshInput<dim>::Source::block ?
                                   std::string() :
                                   input.path_of(input.geometry_file_name),
-                                size_at);
+                                size_at)
+              .to_bytes();
         }
       catch (const std::exception &exc)
         {
@@ -547,17 +397,15 @@ namespace Signorini
     failure = Utilities::MPI::broadcast(communicator, failure);
     if (!failure.empty())
       throw std::runtime_error(failure);
-    flat.coordinates =
-      Utilities::MPI::broadcast(communicator, flat.coordinates);
-    flat.cells    = Utilities::MPI::broadcast(communicator, flat.cells);
-    flat.boundary = Utilities::MPI::broadcast(communicator, flat.boundary);
+    bytes = Utilities::MPI::broadcast(communicator, bytes);
 
-    std::vector<Point<dim>>    vertices;
-    std::vector<CellData<dim>> cells;
-    SubCellData                boundary;
-    unflatten(flat, vertices, cells, boundary);
+    // (the checks of an input mesh: Gmsh's output is not trusted blindly)
+    const GmshMesh<dim> remeshed =
+      checked_mesh<dim>(GmshModelMesh::from_bytes(bytes), "remeshed mesh");
     mesh.clear();
-    mesh.create_triangulation(vertices, cells, boundary);
+    mesh.create_triangulation(remeshed.vertices,
+                              remeshed.cells,
+                              remeshed.boundary);
   }
 
 

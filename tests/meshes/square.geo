@@ -1,9 +1,10 @@
 // The unit square of prm/block.prm as a Gmsh file, for the mesh tests of
 // tests/bad_input.sh: physical curve tags are the block's boundary ids
 // (1 left, 2 bottom, 3/5 top left/right half, 4/6 right upper/lower half).
-// Regenerate the two meshes (14 triangles) with
+// Regenerate the three meshes (14 triangles) with
 //   gmsh -2 -format msh22 square.geo -o square-22.msh
 //   gmsh -2 -format msh41 square.geo -o square-41.msh
+//   gmsh -2 -format msh41 -bin square.geo -o square-41-binary.msh
 lc = 0.5;
 Point(1) = {0, 0, 0, lc};
 Point(2) = {1, 0, 0, lc};
