@@ -249,66 +249,6 @@ namespace Signorini
         }
     }
 
-    /// The entry (Subsection/.../Name, or the subsection path alone if the
-    /// line sets nothing) that line @p line_number of the parameter file
-    /// @p text is about: deal.II's messages give the line and the bare name.
-    std::string
-    entry_at_line(const std::string &text, const unsigned int line_number)
-    {
-      std::vector<std::string> subsections;
-      std::istringstream       lines(text);
-      std::string              line;
-      for (unsigned int n = 1; n <= line_number && std::getline(lines, line);
-           ++n)
-        {
-          line = trimmed(line.substr(0, line.find('#')));
-          std::string path;
-          for (const auto &s : subsections)
-            path += s + "/";
-          if (line.rfind("subsection ", 0) == 0)
-            subsections.push_back(trimmed(line.substr(11)));
-          else if (line == "end" && !subsections.empty())
-            subsections.pop_back();
-          else if (n == line_number && line.rfind("set ", 0) == 0)
-            return path + trimmed(line.substr(4, line.find('=') - 4));
-          if (n == line_number)
-            return path.empty() ? path : path.substr(0, path.size() - 1);
-        }
-      return "";
-    }
-
-    /// deal.II's message @p message about the .prm file @p filename, whose
-    /// contents are @p text, with "Line <N> of file <...>: " replaced by
-    /// "line N: Subsection/Entry: ".
-    std::string
-    with_entry_name(const std::string &message,
-                    const std::string &filename,
-                    const std::string &text)
-    {
-      const std::string head = "Line <";
-      std::string       tail = "> of file <" + filename + ">: ";
-      auto              end  = message.find(tail);
-      if (end == std::string::npos)
-        {
-          // deal.II 9.4's "no such subsection" message lacks the '>'
-          tail = "> of file <" + filename + ": ";
-          end  = message.find(tail);
-        }
-      if (message.rfind(head, 0) != 0 || end == std::string::npos)
-        return message;
-      const std::string number = message.substr(head.size(), end - head.size());
-      if (number.empty() ||
-          number.find_first_not_of("0123456789") != std::string::npos)
-        return message;
-      const std::string entry = entry_at_line(text, std::stoul(number));
-      std::string       rest;
-      for (const char c : message.substr(end + tail.size()))
-        if (!(c == ' ' && !rest.empty() && rest.back() == ' '))
-          rest += c;
-      return "line " + number + ": " +
-             (entry.empty() ? "" : shortened(entry) + ": ") + rest;
-    }
-
     /// The line numbers and texts of the logical lines of the .prm text
     /// @p text, joined and cut as deal.II's ParameterHandler does: a line
     /// ending in a backslash continues on the next one, '#' starts a
@@ -340,6 +280,68 @@ namespace Signorini
           joined.clear();
         }
       return result;
+    }
+
+    /// The entry (Subsection/.../Name, or the subsection path alone if the
+    /// line sets nothing) that line @p line_number of the parameter file
+    /// @p text is about: deal.II 9.4's messages give the line and the bare
+    /// name, and it keeps the subsection path to itself.
+    std::string
+    entry_at_line(const std::string &text, const unsigned int line_number)
+    {
+      std::vector<std::string> subsections;
+      for (const auto &[first_line, line] : prm_lines(text))
+        {
+          if (first_line > line_number)
+            break;
+          std::string path;
+          for (const auto &s : subsections)
+            path += s + "/";
+          const bool here = first_line == line_number;
+          if (line.rfind("subsection ", 0) == 0)
+            subsections.push_back(trimmed(line.substr(11)));
+          else if (line == "end" && !subsections.empty())
+            subsections.pop_back();
+          else if (here && line.rfind("set ", 0) == 0)
+            return path + trimmed(line.substr(4, line.find('=') - 4));
+          if (here)
+            return path.empty() ? path : path.substr(0, path.size() - 1);
+        }
+      return "";
+    }
+
+
+
+    /// deal.II's message @p message about the .prm file @p filename, whose
+    /// contents are @p text, with "Line <N> of file <...>: " replaced by
+    /// "line N: Subsection/Entry: ".
+    std::string
+    with_entry_name(const std::string &message,
+                    const std::string &filename,
+                    const std::string &text)
+    {
+      const std::string head = "Line <";
+      std::string       tail = "> of file <" + filename + ">: ";
+      auto              end  = message.find(tail);
+      if (end == std::string::npos)
+        {
+          // deal.II 9.4's "no such subsection" message lacks the '>'
+          tail = "> of file <" + filename + ": ";
+          end  = message.find(tail);
+        }
+      if (message.rfind(head, 0) != 0 || end == std::string::npos)
+        return message;
+      const std::string number = message.substr(head.size(), end - head.size());
+      if (number.empty() ||
+          number.find_first_not_of("0123456789") != std::string::npos)
+        return message;
+      const std::string entry = entry_at_line(text, std::stoul(number));
+      std::string       rest;
+      for (const char c : message.substr(end + tail.size()))
+        if (!(c == ' ' && !rest.empty() && rest.back() == ' '))
+          rest += c;
+      return "line " + number + ": " +
+             (entry.empty() ? "" : shortened(entry) + ": ") + rest;
     }
 
     /// Deepest nesting of included parameter files accepted.
