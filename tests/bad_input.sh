@@ -1236,7 +1236,7 @@ sed 's/0; -0.01/0; -1e-9/' "$work/zero.prm" > "$work/zero-small.prm"
 zero_stress "rigid translation of 1e-9, no load" "$work/zero-small.prm"
 # in 3D: the extruded block, unloaded, then translated (z held by rollers)
 block3d() { # TEXT: the tests' 3D block, one cycle, with TEXT
-  { cat "$src/tests/block_3d_uniaxial.prm"
+  { cat "$src/tests/runs/block_3d_uniaxial.prm"
     printf 'set Number of cycles = 1\nset Output directory = %s/out\n%s\n' "$work" "$1"
   } > "$work/zero3d.prm"
 }
@@ -1351,9 +1351,9 @@ done
 # relative: the few hundred conjugate gradient iterations of the
 # enhancement carry the round-off of the scaled data (1e40 is no power of
 # 2) to about 1e-9
-eps_3d() { # SED_SCRIPT: eps of tests/estimator_3d_equilibration.prm so changed
+eps_3d() { # SED_SCRIPT: eps of tests/runs/estimator_3d_equilibration.prm so changed
   sed -e "$1" -e 's/set Extra refinements = 1/set Extra refinements = 0/' \
-    "$src/tests/estimator_3d_equilibration.prm" > "$work/units3d.prm"
+    "$src/tests/runs/estimator_3d_equilibration.prm" > "$work/units3d.prm"
   printf 'set Output directory = %s/out\nsubsection Output\n  set Write vtu = false\nend\n' "$work" >> "$work/units3d.prm"
   rm -rf "$work/out"
   "$exe" "$work/units3d.prm" > /dev/null 2>&1 &&
@@ -1499,7 +1499,7 @@ hertz_remeshing() {
   sed -e "s|set File name *=.*|set File name = ${4:-$hertz_coarse}|" \
       -e "s|set Geometry file *=.*|set Geometry file = $3|" \
       -e "s|set Output directory *=.*|set Output directory = $work/out|" \
-      "$src/tests/hertz_adaptive.prm" > "$work/hertz.prm"
+      "$src/tests/runs/hertz_adaptive.prm" > "$work/hertz.prm"
   check "$1" "$2" "$work/hertz.prm"
 }
 sed 's/^R = 1;/R = 2;/' "$hertz_geo" > "$work/hertz-twice.geo"

@@ -27,7 +27,7 @@ main(int argc, char **argv)
                               {{"Number of cycles", std::to_string(n_meshes)},
                                         {"Output directory", "output-2d"}});
   const Result       extruded =
-    run<3>("../block_3d_frank_wolfe.prm",
+    run<3>("../runs/block_3d_frank_wolfe.prm",
            {{"Number of cycles", std::to_string(n_meshes)},
             {"Contact/Condition", "integral"},
             {"Contact/Solver", "active set"},

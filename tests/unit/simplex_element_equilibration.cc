@@ -173,18 +173,18 @@ main(int argc, char **argv)
                  failures);
   };
   check_3d("3D manufactured solution, equilibrated fields",
-           "../manufactured_3d.prm",
+           "../runs/manufactured_3d.prm",
            1.15,
            {{"Number of cycles", "1"},
             {"Output directory", "output-3d-manufactured"}});
   check_3d("3D manufactured solution, displacement problems",
-           "../manufactured_3d.prm",
+           "../runs/manufactured_3d.prm",
            1.1,
            {{"Number of cycles", "1"},
             {eet + "Element stress", "displacement"},
             {"Output directory", "output-3d-manufactured"}});
   check_3d("3D block",
-           "../estimator_3d.prm",
+           "../runs/estimator_3d.prm",
            1.5,
            {{"Number of cycles", "1"},
             {"Reference solution/Extra refinements", "1"},

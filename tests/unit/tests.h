@@ -48,7 +48,7 @@ namespace SignoriniTests
   inline std::string
   input_directory()
   {
-    return std::string(SOURCE_DIR) + "/inputs";
+    return std::string(SOURCE_DIR) + "/../inputs";
   }
 
   /// Declare all parameters (of the problem in @p dim dimensions) and read

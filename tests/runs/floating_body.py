@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A body held by the contact alone: the block on a roller (tests/roller.prm).
+"""A body held by the contact alone: the block on a roller (tests/runs/roller.prm).
 
 Usage: floating_body.py SIGNORINI_BINARY SOURCE_DIR WORK_DIRECTORY
 
@@ -11,7 +11,7 @@ and 3 MPI ranks, every cycle must
   support, the foundation balances the pressure p = 0.1 on the top left half
   (length 1/2), i.e. -0.05 (compressive);
 - give the same energy with both solvers (the same discrete problem);
-and the 3-rank run must reproduce the serial one (tests/serial_parallel.py).
+and the 3-rank run must reproduce the serial one (tests/runs/serial_parallel.py).
 """
 import os
 import shutil
@@ -27,7 +27,7 @@ CHECKS = ["feasibility", "multiplier_sign", "complementarity", "residual",
 
 def main():
     binary, source, work = sys.argv[1:4]
-    prm = os.path.join(source, "tests", "roller.prm")
+    prm = os.path.join(source, "tests", "runs", "roller.prm")
     shutil.rmtree(work, ignore_errors=True)
     problems = []
     energies = {}
