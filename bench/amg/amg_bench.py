@@ -9,7 +9,7 @@ per mesh and setting, CG iterations, seconds (preconditioner setup + solve;
 median of --repeat runs), seconds per million DoFs, and the ratio former /
 current measured in the same run.
 
-Usage: /usr/bin/python3 bench/amg_bench.py [--levels 5 6 7]
+Usage: /usr/bin/python3 bench/amg/amg_bench.py [--levels 5 6 7]
        [--contact-levels 5 6] [--repeat 3] [--build build]
 """
 import argparse
@@ -18,10 +18,9 @@ import statistics
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from contact_bench import run_case, seconds  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import run_case, seconds  # noqa: E402
 
 SETTINGS = {
     "former": {"Linear solver/AMG/Null space": "translations",
@@ -38,9 +37,9 @@ def main():
     parser.add_argument("--contact-levels", type=int, nargs="*",
                         default=[5, 6])
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     print("| DoFs | case | AMG settings | CG iterations | seconds (median) | "
           "s per M DoFs | former / current |")

@@ -13,113 +13,30 @@ mesh ('nested', as in a sequence of cycles; only the last cycle is timed).
 Frank-Wolfe is capped on large meshes (Maximum columns); where it stops the
 KKT residual reached is printed.
 
-Usage: bench/contact_bench.py [--max-level 7] [--build build] [--repeat 1]
+Usage: bench/contact/contact_bench.py [--max-level 7] [--build build]
+       [--repeat 1]
 """
 import argparse
 import csv
 import os
-import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-
-
-def write_case(example, overrides, workdir):
-    """prm/@p example with its output in @p workdir/out and the @p overrides
-    (parameter path -> value) appended, as @p workdir/case.prm; returns the
-    paths of the file and of the (emptied) output directory."""
-    out = os.path.join(workdir, "out")
-    prm = os.path.join(workdir, "case.prm")
-    with open(os.path.join(ROOT, "prm", example)) as base, open(prm, "w") as f:
-        f.write(base.read())
-        f.write(f"\nset Output directory = {out}\n")
-        for path, value in overrides.items():
-            parts = path.split("/")
-            for p in parts[:-1]:
-                f.write(f"subsection {p}\n")
-            f.write(f"set {parts[-1]} = {value}\n")
-            for _ in parts[:-1]:
-                f.write("end\n")
-    shutil.rmtree(out, ignore_errors=True)  # (no stale results)
-    return prm, out
-
-
-def run_logged(command):
-    """Run @p command; return (its screen output, exit code, peak resident
-    MiB: under mpirun that of the largest rank it waited for)."""
-    with tempfile.TemporaryFile(mode="w+") as log:
-        process = subprocess.Popen(command, stdout=log,
-                                   stderr=subprocess.STDOUT, text=True)
-        _, status, usage = os.wait4(process.pid, 0)
-        log.seek(0)
-        output = log.read()
-    return output, os.waitstatus_to_exitcode(status), usage.ru_maxrss / 1024.
-
-
-def run_case(exe, overrides, workdir):
-    """Run block.prm with overrides; return (last statistics row, peak MiB)."""
-    overrides = dict(overrides)
-    overrides.setdefault("Output/Write vtu", "false")
-    overrides.setdefault("Output/Print timing", "false")
-    prm, out = write_case("block.prm", overrides, workdir)
-    with tempfile.TemporaryFile() as errors:
-        process = subprocess.Popen([exe, prm], stdout=subprocess.DEVNULL,
-                                   stderr=errors)
-        _, status, usage = os.wait4(process.pid, 0)
-        # (exit code 2: a computation that did not converge, e.g. a capped
-        # Frank-Wolfe, whose statistics are written and say so)
-        code = os.waitstatus_to_exitcode(status)
-        if code not in (0, 2) or not os.path.exists(
-                os.path.join(out, "statistics.csv")):
-            errors.seek(0)
-            sys.exit(f"{prm} {overrides} failed (exit code {code}):\n"
-                     + errors.read().decode(errors="replace"))
-    with open(os.path.join(out, "statistics.csv")) as f:
-        rows = list(csv.DictReader(f))
-    return rows[-1], usage.ru_maxrss / 1024.0
-
-
-def seconds(row):
-    return float(row["setup_seconds"]) + float(row["solve_seconds"])
-
-
-def single_mesh(level):
-    """Overrides for the block refined @p level times, one computation, no
-    estimate."""
-    return {"Mesh/Initial refinements": str(level), "Number of cycles": "1",
-            "Error estimator/Enable": "false"}
-
-
-def measure_variants(exe, variants, repeat):
-    """Run every variant (name -> overrides) @p repeat times, interleaved so
-    that the machine's load affects all alike; return, per name, the last
-    statistics row, the median seconds and the peak MiB."""
-    times = {key: [] for key in variants}
-    rows, memory = {}, {key: 0. for key in variants}
-    with tempfile.TemporaryDirectory() as work:
-        for _ in range(repeat):
-            for key, overrides in variants.items():
-                row, mib = run_case(exe, overrides, work)
-                rows[key] = row
-                times[key].append(seconds(row))
-                memory[key] = max(memory[key], mib)
-    return {key: (rows[key], statistics.median(times[key]), memory[key])
-            for key in variants}
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import run_case, seconds  # noqa: E402
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-level", type=int, default=7)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--repeat", type=int, default=1,
                         help="runs per measurement; the median is reported")
     parser.add_argument("--csv", default=None, help="also write the table here")
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     def measure(overrides):
         results = []

@@ -12,18 +12,19 @@ TimerOutput sections; the phases end in collective operations) as medians
 over --repeat runs, the speed-up and the parallel efficiency
 speed-up / ranks, and checks that both runs found the same result.
 
-Usage: bench/scaling_bench.py [--level 7] [--repeat 3] [--ranks 2]
+Usage: bench/scaling/scaling_bench.py [--level 7] [--repeat 3] [--ranks 2]
 """
 import argparse
-import csv
 import os
 import re
 import statistics
 import subprocess
+import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 PHASES = ["setup", "assembly", "linear solver setup", "contact solve",
           "error estimate"]
 
@@ -55,8 +56,7 @@ end
         match = re.search(r"\|\s*" + re.escape(phase) + r"\s*\|\s*\d+\s*\|\s*([0-9.e+-]+)s",
                           out)
         times[phase] = float(match.group(1)) if match else 0.
-    with open(os.path.join(work, "out", "statistics.csv")) as f:
-        row = list(csv.DictReader(f))[-1]
+    row = runner.read_statistics(os.path.join(work, "out"))[-1]
     return times, row
 
 
@@ -65,9 +65,9 @@ def main():
     parser.add_argument("--level", type=int, default=7)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--ranks", type=int, default=2)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     results = {}
     with tempfile.TemporaryDirectory() as work:

@@ -9,16 +9,19 @@ predicted for it, and whether the target was reached (eps <= eps_0 (1 +
 tolerance), tolerance 0.025). Each variant is a whole run (1 to 5 minutes in
 Release on 2 cores).
 
-Usage: bench/block_3d_adaptive_study.py [--build build] [--target 0.05]
+Usage: bench/block_3d_adaptive/block_3d_adaptive_study.py [--build build]
+       [--target 0.05]
 """
 import argparse
-import csv
 import os
 import re
 import subprocess
+import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 
 # (initial refinements, singular rate, error density smoothing)
 VARIANTS = [(0, 1, 0), (0, 0.75, 0), (0, 1, 2), (0, 0.75, 2),
@@ -35,7 +38,7 @@ def with_entry(text, name, value):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--target", type=float, default=0.05)
     args = parser.parse_args()
     with open(os.path.join(ROOT, "prm", "block-3d-adaptive.prm")) as f:
@@ -54,10 +57,9 @@ def main():
             prm = os.path.join(work, "case.prm")
             with open(prm, "w") as f:
                 f.write(text)
-            run = subprocess.run([os.path.join(args.build, "signorini"), prm],
+            run = subprocess.run([runner.executable(args.build), prm],
                                  capture_output=True, text=True, check=True)
-            with open(os.path.join(out, "statistics.csv")) as f:
-                rows = list(csv.DictReader(f))
+            rows = runner.read_statistics(out)
             meshes = ", ".join(
                 f"{int(r['cells']):,} ({100 * float(r['eps']):.2f} %)"
                 for r in rows)

@@ -13,7 +13,8 @@ cycle); the first computation with eps_ex <= 1 % is the answer. A second
 run, stopped at that computation and without the reference, is timed
 (median of --repeat runs, wall clock of the whole program).
 
-Usage: /usr/bin/python3 bench/equal_accuracy.py [--build build] [--repeat 3]
+Usage: /usr/bin/python3 bench/equal_accuracy/equal_accuracy.py [--build build]
+       [--repeat 3]
 """
 import argparse
 import os
@@ -21,10 +22,9 @@ import statistics
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from block_run import run_block  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import run_block  # noqa: E402
 GOAL = 0.01
 
 # (name, Mesh adaptation settings, largest number of computations, reference)
@@ -66,7 +66,7 @@ end
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
 

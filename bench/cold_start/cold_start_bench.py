@@ -19,22 +19,24 @@ ratio to the floor of the same run, and the peak resident memory of the
 process. Times are medians of --repeat runs, interleaved so that the machine's
 load affects every variant alike.
 
-Usage: bench/cold_start_bench.py [--levels 3 4 5 6 7] [--repeat 3]
+Usage: bench/cold_start/cold_start_bench.py [--levels 3 4 5 6 7] [--repeat 3]
 """
 import argparse
 import os
 import sys
 
-from contact_bench import ROOT, measure_variants, single_mesh
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import measure_variants, single_mesh  # noqa: E402
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--levels", type=int, nargs="+", default=[3, 4, 5, 6, 7])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     print("| DoFs | condition | floor s | scratch: its, CG, s, x floor, MiB "
           "| nested: its (coarser), CG, s, x floor, MiB |")

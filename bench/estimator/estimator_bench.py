@@ -14,19 +14,18 @@ cycle is reported. Medians over --repeat repetitions, each of which runs the
 linear solve and the two estimates back to back; the ratios are the medians
 of the ratios within a repetition.
 
-Usage: bench/estimator_bench.py [--min-level 4] [--max-level 7] [--repeat 3]
-                               [--reconstruction "star patch"]
+Usage: bench/estimator/estimator_bench.py [--min-level 4] [--max-level 7]
+       [--repeat 3] [--reconstruction "star patch"]
 """
 import argparse
-import csv
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 
 
 def run(exe, text, work):
@@ -40,9 +39,8 @@ subsection Output
   set Print timing = false
 end
 """)
-    subprocess.run([exe, prm], check=True, stdout=subprocess.DEVNULL)
-    with open(os.path.join(work, "out", "statistics.csv")) as f:
-        return list(csv.DictReader(f))[-1]
+    runner.run_timed([exe, prm])
+    return runner.read_statistics(os.path.join(work, "out"))[-1]
 
 
 def main():
@@ -50,11 +48,11 @@ def main():
     parser.add_argument("--min-level", type=int, default=4)
     parser.add_argument("--max-level", type=int, default=7)
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--reconstruction", default="element equilibration",
                         choices=["star patch", "element equilibration"])
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     print(f"Stress reconstruction: {args.reconstruction}\n")
     print("| level | DoFs | linear solve (s) | integral: estimate (s) | ratio "

@@ -18,22 +18,21 @@ Per region: cells, share of eps_ex^2 and of eps^2, the region's
 effectivity sqrt(sum eps_E^2 / sum eps_ex_E^2) and the median of the local
 effectivities eps_E / eps_ex_E of its cells.
 
-Usage: bench/local_effectivity.py [--build build] [--meshes 4] [--extra 2]
-                                  [--radius 0.125]
+Usage: bench/local_effectivity/local_effectivity.py [--build build]
+       [--meshes 4] [--extra 2] [--radius 0.125]
 """
 import argparse
 import csv
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
 import numpy
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 import vtu  # noqa: E402
 
 REGIONS = ("(a) clamped loaded corner", "(b) contact zone",
@@ -60,8 +59,7 @@ end
     prm = os.path.join(work, "local-effectivity.prm")
     with open(prm, "w") as f:
         f.write(text)
-    subprocess.run([os.path.join(build, "signorini"), prm], check=True,
-                   stdout=subprocess.DEVNULL)
+    runner.run_timed([runner.executable(build), prm])
     return out
 
 
@@ -93,7 +91,7 @@ def regions(points, triangles, radius, x_s):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--meshes", type=int, default=4)
     parser.add_argument("--extra", type=int, default=2)
     parser.add_argument("--radius", type=float, default=0.125,
@@ -101,8 +99,7 @@ def main():
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as work:
         out = run(args.build, work, args.meshes, args.extra)
-        with open(os.path.join(out, "statistics.csv")) as f:
-            statistics = list(csv.DictReader(f))
+        statistics = runner.read_statistics(out)
         print(f"r = {args.radius:g}; reference {args.extra} levels beyond "
               "the finest mesh (initial mesh refined)")
         print("| cells | eps | eps_ex | effectivity | region | cells in it "

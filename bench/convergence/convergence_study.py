@@ -21,16 +21,18 @@ Studies:
       known): effectivity = e / energy_error (both absolute; the program's
       eps and relative_energy_error are normalised differently).
 
-Writes a CSV (default doc/convergence-study.csv) and, if matplotlib is
-available, a plot (default doc/convergence-study.png): left, eps of every
-reconstruction and eps_ex against the elements in contact (block); right,
-the effectivity of every reconstruction and study against the cells.
+Writes a CSV (default bench/convergence/convergence-study.csv) and, if
+matplotlib is available, a plot (default doc/convergence-study.png): left,
+eps of every reconstruction and eps_ex against the elements in contact
+(block); right, the effectivity of every reconstruction and study against
+the cells.
 Prints markdown tables (one per study: rows = meshes; eps_ex, and per
 reconstruction eps and effectivity; the effectivity spread max - min and
 the fitted log-log slopes) and, with --tables, writes them to a file.
 
-Usage: bench/convergence_study.py [--meshes 5] [--build build]
-           [--csv doc/convergence-study.csv] [--png doc/convergence-study.png]
+Usage: bench/convergence/convergence_study.py [--meshes 5] [--build build]
+           [--csv bench/convergence/convergence-study.csv]
+           [--png doc/convergence-study.png]
            [--tables FILE] [--reconstructions all|LIST]
            [--studies all|LIST] [--jobs 1]
 """
@@ -39,12 +41,13 @@ import concurrent.futures
 import csv
 import math
 import os
-import subprocess
+import sys
 import tempfile
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 
 # name -> entries of subsection Error estimator
 RECONSTRUCTIONS = {
@@ -119,10 +122,7 @@ end
         prm = os.path.join(work, "study.prm")
         with open(prm, "w") as f:
             f.write(text)
-        start = time.perf_counter()
-        subprocess.run([os.path.join(build, "signorini"), prm],
-                       check=True, stdout=subprocess.DEVNULL)
-        seconds = time.perf_counter() - start
+        seconds = runner.run_timed([runner.executable(build), prm])
         rows = []
         with open(os.path.join(work, "out", "statistics.csv")) as f:
             for r in csv.DictReader(f):
@@ -235,9 +235,9 @@ def parse_list(value, known, what):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--meshes", type=int, default=5)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--csv", default=os.path.join(
-        ROOT, "doc", "convergence-study.csv"))
+        ROOT, "bench", "convergence", "convergence-study.csv"))
     parser.add_argument("--png", default=os.path.join(
         ROOT, "doc", "convergence-study.png"))
     parser.add_argument("--tables", default=None,

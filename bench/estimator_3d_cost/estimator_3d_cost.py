@@ -11,21 +11,19 @@ the peak resident memory with and without the estimator and the difference
 per tetrahedron, and eps. Medians over --repeat repetitions (each runs both
 computations back to back); the machine is shared: read the ratios.
 
-Usage: /usr/bin/python3 bench/estimator_3d_cost.py [--levels 1 2]
-       [--repeat 3] [--build build]
+Usage: /usr/bin/python3 bench/estimator_3d_cost/estimator_3d_cost.py
+       [--levels 1 2] [--repeat 3] [--build build]
 """
 import argparse
-import csv
 import os
 import re
 import statistics
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from contact_bench import run_logged, write_case  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import run_logged, write_case  # noqa: E402
 
 
 def run(exe, overrides, work):
@@ -45,8 +43,7 @@ def run(exe, overrides, work):
             match = re.search(r"enhancement \((\d+) iterations\)", line)
             if match:
                 steps["iterations"] = float(match.group(1))
-    with open(os.path.join(out, "statistics.csv")) as f:
-        row = list(csv.DictReader(f))[-1]
+    row = runner.read_statistics(out)[-1]
     return row, steps, peak
 
 
@@ -54,9 +51,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--levels", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     step_names = ["mesh and strains", "classical densities", "element fields",
                   "enhancement", "element errors"]

@@ -13,18 +13,18 @@ densities, the default, and the star patch): its effectivity on
 Prints tetrahedra, e or eps, the exact error, the effectivity and the
 estimate's seconds (Release, worker threads).
 
-Usage: bench/estimator_3d_study.py [--sizes 0.25 0.125 0.0625]
-                                   [--block-cycles 2] [--build build]
-                                   [--reconstructions "element equilibration"
-                                    "star patch"]
+Usage: bench/estimator_3d/estimator_3d_study.py [--sizes 0.25 0.125 0.0625]
+       [--block-cycles 2] [--build build]
+       [--reconstructions "element equilibration" "star patch"]
 """
 import argparse
-import csv
 import os
-import subprocess
+import sys
 import tempfile
 
-from contact_bench import ROOT, write_case
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import write_case  # noqa: E402
 
 LAMBDA, MU = 0.5769230769230769, 0.3846153846153846
 SOLUTION = "x*(1-x)*y*(1-y)*z*(1-z); 0; 0"
@@ -83,8 +83,8 @@ end
 
 
 def rows(exe, prm, out):
-    subprocess.run([exe, prm], check=True, stdout=subprocess.DEVNULL)
-    return list(csv.DictReader(open(os.path.join(out, "statistics.csv"))))
+    runner.run_timed([exe, prm])
+    return runner.read_statistics(out)
 
 
 def main():
@@ -92,11 +92,11 @@ def main():
     parser.add_argument("--sizes", type=float, nargs="+",
                         default=[0.25, 0.125, 0.0625])
     parser.add_argument("--block-cycles", type=int, default=2)
-    parser.add_argument("--build", default="build")
+    runner.add_build_argument(parser)
     parser.add_argument("--reconstructions", nargs="+",
                         default=["element equilibration", "star patch"])
     args = parser.parse_args()
-    exe = os.path.join(ROOT, args.build, "signorini")
+    exe = runner.executable(args.build)
     with tempfile.TemporaryDirectory() as workdir:
         print("| reconstruction | case | tetrahedra | e | exact energy error "
               "| effectivity | estimate s |")

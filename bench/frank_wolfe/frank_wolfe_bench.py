@@ -16,24 +16,26 @@ solver setup + contact solve), ratio to the floor of the same run, the KKT
 residual reached (Tolerance 1e-12 by default) and the peak resident memory.
 Times are medians of --repeat runs (levels above --repeat-up-to: one run).
 
-Usage: bench/frank_wolfe_bench.py [--levels 4 5 6] [--repeat 3]
+Usage: bench/frank_wolfe/frank_wolfe_bench.py [--levels 4 5 6] [--repeat 3]
 """
 import argparse
 import os
 import sys
 
-from contact_bench import ROOT, measure_variants, single_mesh
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import measure_variants, single_mesh  # noqa: E402
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--levels", type=int, nargs="+", default=[4, 5, 6])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--repeat-up-to", type=int, default=5)
     parser.add_argument("--amg-columns", type=int, default=60)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     print("| DoFs | condition | floor s | FW direct: steps, columns, s, x floor,"
           " residual, MiB | FW AMG: steps, columns, s, x floor, residual, MiB |")

@@ -11,7 +11,8 @@ pressure (nodal force over the node's area) and -Lambda (the integral
 condition's multiplier: the mass matrix's inverse applied to the same
 forces); 'scatter' is the standard deviation of the relative errors.
 
-Usage: bench/hertz_sphere_study.py [--sizes 0.01 0.005 0.0033] [--build build]
+Usage: bench/hertz_sphere/hertz_sphere_study.py [--sizes 0.01 0.005 0.0033]
+       [--build build]
 """
 import argparse
 import csv
@@ -20,10 +21,13 @@ import os
 import re
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 
-from contact_bench import ROOT, write_case
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT, write_case  # noqa: E402
 
 
 def analyse(table):
@@ -59,9 +63,9 @@ def main():
                         default=[0.01, 0.005, 0.0033])
     parser.add_argument("--conditions", nargs="+",
                         default=["integral", "pointwise"])
-    parser.add_argument("--build", default="build")
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(ROOT, args.build, "signorini")
+    exe = runner.executable(args.build)
     geometry = open(os.path.join(ROOT, "prm", "hertz-sphere.geo")).read()
     print("| h_contact | condition | tetrahedra | DoFs | a | farthest node "
           "in contact | nodal pressure / p0 at r = 0 | -Lambda / p0 at r = 0 "

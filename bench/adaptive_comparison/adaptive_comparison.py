@@ -11,10 +11,12 @@ last mesh refined twice (Reference solution/Mesh = final mesh). Each run is
 timed: the wall clock of the whole program, for (c) to (e) including the
 reference solution.
 
-Writes doc/adaptive-comparison.csv, doc/figures/figure-*.png and prints the
+Writes bench/adaptive_comparison/adaptive-comparison.csv,
+doc/figures/figure-*.png and prints the
 tables (markdown) that doc/adaptation.md quotes.
 
-Usage: /usr/bin/python3 bench/adaptive_comparison.py [--build build]
+Usage: /usr/bin/python3 bench/adaptive_comparison/adaptive_comparison.py
+       [--build build]
 """
 import argparse
 import csv
@@ -23,10 +25,9 @@ import os
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from block_run import run_block  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT, run_block  # noqa: E402
 
 TARGET = 0.02
 STRATEGIES = {
@@ -187,7 +188,7 @@ def render_figures(directory, rows):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
 
     table, runs, times = [], {}, {}
@@ -216,7 +217,8 @@ def main():
                     except ImportError as error:
                         print(f"figures skipped: {error}")
 
-    with open(os.path.join(ROOT, "doc", "adaptive-comparison.csv"), "w",
+    with open(os.path.join(ROOT, "bench", "adaptive_comparison",
+                           "adaptive-comparison.csv"), "w",
               newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(table[0]))
         writer.writeheader()

@@ -11,17 +11,16 @@ iterations, the seconds of setup + solve (median of --repeat runs,
 interleaved), and the peak resident memory of the process (the largest of the
 runs), with the ratio to the 1.2 GiB target.
 
-Usage: /usr/bin/python3 bench/memory_bench.py [--level 7] [--repeat 3]
+Usage: /usr/bin/python3 bench/memory/memory_bench.py [--level 7] [--repeat 3]
        [--build build]
 """
 import argparse
 import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from contact_bench import measure_variants, single_mesh  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import measure_variants, single_mesh  # noqa: E402
 
 HIERARCHIES = {
     "ML, smoothed aggregation (default)": {},
@@ -35,9 +34,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--level", type=int, default=7)
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     mesh = dict(single_mesh(args.level), **{"Linear solver/Type": "AMG-CG"})
     cases = {

@@ -13,21 +13,19 @@ measured in the same run of the script, the stage times of the program's own
 timer (assembly, setup, make grid: the cost around the solves), and the peak
 resident memory of one rank.
 
-Usage: /usr/bin/python3 bench/block_3d_bench.py [--level 4]
+Usage: /usr/bin/python3 bench/block_3d/block_3d_bench.py [--level 4]
        [--subdivisions 4 3 2] [--ranks 1 2] [--repeat 1] [--build build]
 """
 import argparse
-import csv
 import os
 import re
 import statistics
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from contact_bench import run_logged, write_case  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import run_logged, write_case  # noqa: E402
 
 
 def run(exe, ranks, overrides, work):
@@ -46,8 +44,7 @@ def run(exe, ranks, overrides, work):
         match = re.match(r"\|\s*([a-z ]+?)\s*\|\s*\d+\s*\|\s*([0-9.e+-]+)s", line)
         if match:
             stages[match.group(1)] = float(match.group(2))
-    with open(os.path.join(out, "statistics.csv")) as f:
-        row = list(csv.DictReader(f))[-1]
+    row = runner.read_statistics(out)[-1]
     return row, stages, peak
 
 
@@ -57,9 +54,9 @@ def main():
     parser.add_argument("--subdivisions", type=int, nargs=3, default=[4, 3, 2])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--repeat", type=int, default=1)
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     mesh = {"Mesh/Initial refinements": str(args.level),
             "Mesh/Block subdivisions": ", ".join(map(str, args.subdivisions)),

@@ -12,10 +12,10 @@ the reference solution and comparison (the answer itself: the mesh that
 reaches the target and its error figure). The answer (cells and eps of
 the last cycle) is printed too, and must be the same on both rank counts.
 
-Usage: bench/time_to_answer.py [--repeat 3] [--ranks 1 2] [--build build]
+Usage: bench/time_to_answer/time_to_answer.py [--repeat 3] [--ranks 1 2]
+       [--build build]
 """
 import argparse
-import csv
 import os
 import re
 import shutil
@@ -25,8 +25,9 @@ import sys
 import tempfile
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import ROOT  # noqa: E402
 CASES = ["block-adaptive.prm", "hertz-adaptive.prm"]
 REFERENCE_STAGES = ("reference solution", "reference comparison")
 
@@ -59,8 +60,7 @@ def run(exe, prm_dir, name, ranks, out):
             stages[m.group(1)] = float(m.group(3))
     if total is None or not stages:
         sys.exit(f"{name}: no timing table in the screen log")
-    with open(os.path.join(out, "statistics.csv")) as f:
-        rows = list(csv.DictReader(f))
+    rows = runner.read_statistics(out)
     stages["process (launch to exit, MPI start included)"] = process_seconds
     return stages, total, rows
 
@@ -69,9 +69,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    runner.add_build_argument(parser)
     args = parser.parse_args()
-    exe = os.path.join(args.build, "signorini")
+    exe = runner.executable(args.build)
 
     with tempfile.TemporaryDirectory() as work:
         prm_dir = os.path.join(work, "prm")
