@@ -1,5 +1,5 @@
 // A unit cube in 24-ish tetrahedra for the 3D reader's bad-input cases
-// (tests/bad_input.sh): gmsh -3 -format msh22 cube.geo -o cube.msh
+// (tests/bad_input/cases.txt): gmsh -3 -format msh22 cube.geo -o cube.msh
 // Physical surface tags (boundary ids): 1 the face x = 0 (clamped), 2 the
 // face z = 0 (contact), 3 the face z = 1 (loaded).
 Point(1) = {0, 0, 0, 0.5};

@@ -1,5 +1,5 @@
 // The unit square of prm/block.prm as a Gmsh file, for the mesh tests of
-// tests/bad_input.sh: physical curve tags are the block's boundary ids
+// tests/bad_input/cases.txt: physical curve tags are the block's boundary ids
 // (1 left, 2 bottom, 3/5 top left/right half, 4/6 right upper/lower half).
 // Regenerate the three meshes (14 triangles) with
 //   gmsh -2 -format msh22 square.geo -o square-22.msh
