@@ -18,7 +18,8 @@ namespace Signorini
      * Throw unless @p boundary_conditions say where @p constraints prescribe
      * displacements: on the boundary faces of the cells this rank owns,
      * every dof fixed to a value (a constraint without entries) has a
-     * Dirichlet part on one of its faces with its component, and every dof
+     * Dirichlet part with its component on one of the boundary faces it
+     * lies on (of any cell, owned or ghost), and every dof
      * such a part names is constrained. The stress reconstructions leave
      * the tractions free exactly there: a program of its own (doc/
      * library.md) that constrains dofs the boundary conditions do not name
@@ -33,9 +34,12 @@ namespace Signorini
       const auto                          &fe = dof_handler.get_fe();
       std::vector<bool>                    named(dof_handler.n_dofs(), false);
       std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
-      const auto for_each_boundary_dof = [&](const auto &function) {
+      // (@p owned_only false: the ghost cells too, whose faces may carry the
+      // Dirichlet part of a vertex of an owned cell)
+      const auto for_each_boundary_dof = [&](const bool  owned_only,
+                                             const auto &function) {
         for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
+          if (owned_only ? cell->is_locally_owned() : !cell->is_artificial())
             for (const auto &face : cell->face_iterators())
               if (face->at_boundary())
                 {
@@ -47,13 +51,14 @@ namespace Signorini
                              mask[fe.face_system_to_component_index(i).first]);
                 }
       };
-      for_each_boundary_dof(
-        [&](const types::global_dof_index dof, const bool prescribed) {
-          if (prescribed)
-            named[dof] = true;
-        });
+      for_each_boundary_dof(false,
+                            [&](const types::global_dof_index dof,
+                                const bool                    prescribed) {
+                              if (prescribed)
+                                named[dof] = true;
+                            });
       std::string mismatch;
-      for_each_boundary_dof([&](const types::global_dof_index dof, bool) {
+      for_each_boundary_dof(true, [&](const types::global_dof_index dof, bool) {
         const auto *entries = constraints.get_constraint_entries(dof);
         if (named[dof] && entries == nullptr)
           mismatch = "dof " + std::to_string(dof) +
