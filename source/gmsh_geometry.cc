@@ -1,4 +1,3 @@
-
 #include <signorini/gmsh_child_process.h>
 #include <signorini/gmsh_geometry.h>
 #include <signorini/gmsh_mesh.h>
