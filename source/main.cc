@@ -8,6 +8,7 @@
 #include <signorini/signorini_problem.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -46,6 +47,25 @@ namespace
       }
     problem.run();
   }
+
+  /**
+   * Started without a launcher (no mpirun, srun or Hydra in the
+   * environment), Open MPI's singleton start spawns an orted daemon and
+   * probes every point-to-point transport: 0.3 s, more than a small run
+   * needs for all its work (bench/small_runs). One process needs neither, so
+   * unless the user set them, the daemon is skipped and the transport is
+   * the plain one. (Other MPI libraries ignore these variables.)
+   */
+  void
+  prefer_fast_singleton_start()
+  {
+    for (const char *launched :
+         {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+      if (std::getenv(launched) != nullptr)
+        return;
+    setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite=*/0);
+    setenv("OMPI_MCA_pml", "ob1", /*overwrite=*/0);
+  }
 } // namespace
 
 
@@ -56,6 +76,7 @@ main(int argc, char **argv)
   using namespace Signorini;
   const std::vector<std::string> args(argv + 1, argv + argc);
   // serially or under mpirun (deal.II's thread pool on every rank)
+  prefer_fast_singleton_start();
   Utilities::MPI::MPI_InitFinalize mpi(argc,
                                        argv,
                                        numbers::invalid_unsigned_int);

@@ -124,8 +124,9 @@ namespace Signorini
 
     /// The preconditioner asked for.
     Type type = Type::automatic;
-    /// Trilinos Amesos package of the direct factorisation.
-    std::string direct_package = "Amesos_Klu";
+    /// Trilinos Amesos package of the direct factorisation, or "automatic"
+    /// (chosen by the dimension in initialize()).
+    std::string direct_package = "automatic";
     /// With Type::automatic: the largest problem solved with the direct
     /// factorisation.
     types::global_dof_index direct_solver_limit = 10000;
@@ -169,6 +170,8 @@ namespace Signorini
     std::vector<types::global_dof_index> current_eliminated_dofs;
     /// What initialize() chose: direct factorisation or AMG
     bool use_direct = true;
+    /// The Amesos package initialize() chose.
+    std::string package = "Amesos_Klu";
     /// The direct factorisation (its solve is not const)
     mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     /// The solver control the direct solver needs
