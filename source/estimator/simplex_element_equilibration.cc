@@ -825,36 +825,33 @@ namespace Signorini
 
       /// The quadratic of @p cell: H = @p hessian (symmetrised), g-/+ and
       /// c-/+.
+      /// (@p hessian row-major n x n, the gradients n entries each: no
+      /// container per cell)
       void
-      set(const unsigned int        cell,
-          const FullMatrix<double> &hessian,
-          const Vector<double>     &gradient,
-          const Vector<double>     &sum_gradient,
-          const double              constant,
-          const double              sum_constant)
+      set(const unsigned int cell,
+          const double      *hessian,
+          const double      *gradient,
+          const double      *sum_gradient,
+          const double       constant,
+          const double       sum_constant)
       {
         const std::size_t k      = position[cell];
         double *const     values = &hessians[k * packed];
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = 0; j <= i; ++j)
-            values[i * (i + 1) / 2 + j] = 0.5 * (hessian(i, j) + hessian(j, i));
-        std::copy(gradient.begin(), gradient.end(), &gradients[k * n]);
-        std::copy(sum_gradient.begin(),
-                  sum_gradient.end(),
-                  &sum_gradients[k * n]);
+            values[i * (i + 1) / 2 + j] =
+              0.5 * (hessian[i * n + j] + hessian[j * n + i]);
+        std::copy(gradient, gradient + n, &gradients[k * n]);
+        std::copy(sum_gradient, sum_gradient + n, &sum_gradients[k * n]);
         constants[k]     = constant;
         sum_constants[k] = sum_constant;
       }
 
-      /// H(i, j) of @p cell.
-      double
-      hessian(const unsigned int cell,
-              const unsigned int i,
-              const unsigned int j) const
+      /// The lower triangle of H of @p cell, (i, j <= i) at i (i + 1) / 2 + j.
+      const double *
+      packed_hessian(const unsigned int cell) const
       {
-        const double *values = &hessians[std::size_t(position[cell]) * packed];
-        return (i >= j) ? values[i * (i + 1) / 2 + j] :
-                          values[j * (j + 1) / 2 + i];
+        return &hessians[std::size_t(position[cell]) * packed];
       }
 
       /// @p y = g- + H @p x (with @p with_gradient), or H @p x, of @p cell
@@ -1370,9 +1367,9 @@ namespace Signorini
                   (system.body * body_solution) +
                   geometry.measure * (input.material.stress(strain) * strain);
                 quadratics.set(cell,
-                               full,
-                               gradient,
-                               sum_gradient,
+                               &full(0, 0),
+                               gradient.begin(),
+                               sum_gradient.begin(),
                                base - 2. * (system.admissible * body_solution),
                                base + 2. * (system.admissible * body_solution));
               }
@@ -1507,21 +1504,21 @@ namespace Signorini
                 const auto sum        = element.linear_part(data.geometry,
                                                      data.body_force,
                                                      -admissible);
-                FullMatrix<double> full(n, n);
-                Vector<double>     gradient(n), sum_gradient(n);
+                std::array<double, n * n> full;
+                std::array<double, n>     gradient, sum_gradient;
                 for (unsigned int a = 0; a < n; ++a)
                   {
                     const unsigned int t = data.traction_index[a];
                     for (unsigned int b = 0; b < n; ++b)
-                      full(a, b) = data.sign[a] * data.sign[b] *
-                                   hessian[t * n + data.traction_index[b]];
+                      full[a * n + b] = data.sign[a] * data.sign[b] *
+                                        hessian[t * n + data.traction_index[b]];
                     gradient[a]     = data.sign[a] * difference.first[t];
                     sum_gradient[a] = data.sign[a] * sum.first[t];
                   }
                 quadratics.set(cell,
-                               full,
-                               gradient,
-                               sum_gradient,
+                               full.data(),
+                               gradient.data(),
+                               sum_gradient.data(),
                                difference.second,
                                sum.second);
               }
@@ -1651,15 +1648,23 @@ namespace Signorini
               const unsigned int      cell = cells[e];
               const CellGeometry<dim> geometry(mesh, cell);
               rigid_work(mesh, geometry, cell, work);
+              // (each packed entry read once, for both of its places: the
+              // slots of a cell are distinct, so every entry of the patch's
+              // Hessian receives the same terms in the same order)
+              const double *hessian = quadratics.packed_hessian(cell);
               for (unsigned int a = 0; a < n_element_values<dim>; ++a)
                 {
                   const int i = positions[e][a];
                   if (i < 0)
                     continue;
-                  for (unsigned int b = 0; b < n_element_values<dim>; ++b)
+                  const double *row = hessian + a * (a + 1) / 2;
+                  for (unsigned int b = 0; b < a; ++b)
                     if (positions[e][b] >= 0)
-                      patch_hessian(i, positions[e][b]) +=
-                        quadratics.hessian(cell, a, b);
+                      {
+                        patch_hessian(i, positions[e][b]) += row[b];
+                        patch_hessian(positions[e][b], i) += row[b];
+                      }
+                  patch_hessian(i, i) += row[a];
                   for (unsigned int r = 0; r < n_rigid<dim>; ++r)
                     constraints(e * n_rigid<dim> + r, i) = work(r, a);
                 }
@@ -1721,6 +1726,43 @@ namespace Signorini
         },
         1);
 
+      // (in blocks of a fixed size summed in order: the same sum on any
+      // number of threads; the passes that fuse a dot product use the same
+      // blocks, so they give the same sum)
+      constexpr std::size_t dot_block  = 4096;
+      const std::size_t   n_dot_blocks = (n_slots + dot_block - 1) / dot_block;
+      std::vector<double> dot_partial(n_dot_blocks);
+      const auto          sum_partial = [&dot_partial]() {
+        double sum = 0.;
+        for (const double p : dot_partial)
+          sum += p;
+        return sum;
+      };
+      const auto dot = [&](const std::vector<double> &a,
+                           const std::vector<double> &b) {
+        const std::size_t   n_a_blocks = (a.size() + dot_block - 1) / dot_block;
+        std::vector<double> partial(n_a_blocks);
+        parallel::apply_to_subranges(
+          std::size_t(0),
+          n_a_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k)
+              {
+                double sum = 0.;
+                for (std::size_t i = k * dot_block;
+                     i < std::min(a.size(), (k + 1) * dot_block);
+                     ++i)
+                  sum += a[i] * b[i];
+                partial[k] = sum;
+              }
+          },
+          4);
+        double sum = 0.;
+        for (const double p : partial)
+          sum += p;
+        return sum;
+      };
+
       // z = sum over the patches of B B^T r (each entry of the
       // contributions has one source: the sum is rank independent)
       std::vector<double> contributions(n_slots * dim);
@@ -1771,19 +1813,29 @@ namespace Signorini
           },
           1);
         sum_over_ranks(contributions, communicator);
+        // z, and r . z in the blocks of dot()
         parallel::apply_to_subranges(
-          0u,
-          n_slots,
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int s = begin; s < end; ++s)
+          std::size_t(0),
+          n_dot_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t b = begin; b < end; ++b)
               {
-                double value = 0.;
-                for (unsigned int k = 0; k < dim; ++k)
-                  value += contributions[s * dim + k];
-                z[s] = value;
+                double sum = 0.;
+                for (std::size_t s = b * dot_block;
+                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
+                     ++s)
+                  {
+                    double value = 0.;
+                    for (unsigned int k = 0; k < dim; ++k)
+                      value += contributions[s * dim + k];
+                    z[s] = value;
+                    sum += r[s] * z[s];
+                  }
+                dot_partial[b] = sum;
               }
           },
-          4096);
+          4);
+        return sum_partial();
       };
 
       // y = H x (+ g): the sum of the owned cells' contributions, at
@@ -1828,15 +1880,22 @@ namespace Signorini
                 }
           },
           64);
+        // y by slot, and on one rank x . y in the blocks of dot()
         parallel::apply_to_subranges(
-          0u,
-          n_faces,
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int face = begin; face < end; ++face)
-              for (unsigned int k = 0; k < dim; ++k)
-                for (unsigned int c = 0; c < dim; ++c)
+          std::size_t(0),
+          n_dot_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t b = begin; b < end; ++b)
+              {
+                double sum = 0.;
+                for (std::size_t s = b * dot_block;
+                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
+                     ++s)
                   {
-                    double value = 0.;
+                    const unsigned int face  = s / (dim * dim);
+                    const unsigned int k     = (s / dim) % dim;
+                    const unsigned int c     = s % dim;
+                    double             value = 0.;
                     for (unsigned int side = 0; side < 2; ++side)
                       {
                         const unsigned int cell = mesh.face_cells[face][side];
@@ -1845,38 +1904,17 @@ namespace Signorini
                             [std::size_t(owned_position[cell]) * n +
                              (local_face[face][side] * dim + k) * dim + c];
                       }
-                    y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
+                    y[s] = free[face][c] ? value : 0.;
+                    sum += x[s] * y[s];
                   }
-          },
-          256);
-        sum_over_ranks(y, communicator);
-      };
-      // (in blocks of a fixed size summed in order: the same sum on any
-      // number of threads)
-      const auto dot = [](const std::vector<double> &a,
-                          const std::vector<double> &b) {
-        constexpr std::size_t block    = 4096;
-        const std::size_t     n_blocks = (a.size() + block - 1) / block;
-        std::vector<double>   partial(n_blocks);
-        parallel::apply_to_subranges(
-          std::size_t(0),
-          n_blocks,
-          [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k)
-              {
-                double sum = 0.;
-                for (std::size_t i = k * block;
-                     i < std::min(a.size(), (k + 1) * block);
-                     ++i)
-                  sum += a[i] * b[i];
-                partial[k] = sum;
+                dot_partial[b] = sum;
               }
           },
           4);
-        double sum = 0.;
-        for (const double p : partial)
-          sum += p;
-        return sum;
+        if (!several_ranks)
+          return sum_partial();
+        sum_over_ranks(y, communicator);
+        return dot(x, y);
       };
       // preconditioned conjugate gradients in the changes that keep every
       // element in equilibrium (each preconditioned residual is a sum of
@@ -1886,9 +1924,8 @@ namespace Signorini
       multiply(densities, true, residual);
       for (double &r : residual)
         r = -r;
-      precondition(residual, z);
+      double rz         = precondition(residual, z);
       direction         = z;
-      double   rz       = dot(residual, z);
       double   decrease = 0.;
       Progress progress("estimate, enhanced densities", context.communicator);
       for (unsigned int iteration = 0;
@@ -1899,8 +1936,7 @@ namespace Signorini
             return "iteration " + std::to_string(iteration) + " of at most " +
                    std::to_string(settings.max_iterations);
           });
-          multiply(direction, false, product);
-          const double curvature = dot(direction, product);
+          const double curvature = multiply(direction, false, product);
           if (!(curvature > 0.))
             break;
           const double alpha = rz / curvature;
@@ -1923,8 +1959,7 @@ namespace Signorini
           // tolerance: beyond, the directions are noise)
           if (step_decrease <= std::max(settings.tolerance, 1e-13) * decrease)
             break;
-          precondition(residual, z);
-          const double rz_new = dot(residual, z);
+          const double rz_new = precondition(residual, z);
           const double beta   = rz_new / rz;
           rz                  = rz_new;
           parallel::apply_to_subranges(
