@@ -645,7 +645,8 @@ namespace Signorini
         points[q] = geometry.point(rules.cell.point(q));
       std::vector<Vector<double>> body_force(points.size(),
                                              Vector<double>(dim));
-      if (input.boundary_conditions.body_force)
+      if (input.boundary_conditions.body_force &&
+          !input.boundary_conditions.body_force_zero)
         input.boundary_conditions.body_force->vector_value_list(points,
                                                                 body_force);
       for (unsigned int q = 0; q < rules.cell.size(); ++q)
@@ -824,36 +825,33 @@ namespace Signorini
 
       /// The quadratic of @p cell: H = @p hessian (symmetrised), g-/+ and
       /// c-/+.
+      /// (@p hessian row-major n x n, the gradients n entries each: no
+      /// container per cell)
       void
-      set(const unsigned int        cell,
-          const FullMatrix<double> &hessian,
-          const Vector<double>     &gradient,
-          const Vector<double>     &sum_gradient,
-          const double              constant,
-          const double              sum_constant)
+      set(const unsigned int cell,
+          const double      *hessian,
+          const double      *gradient,
+          const double      *sum_gradient,
+          const double       constant,
+          const double       sum_constant)
       {
         const std::size_t k      = position[cell];
         double *const     values = &hessians[k * packed];
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = 0; j <= i; ++j)
-            values[i * (i + 1) / 2 + j] = 0.5 * (hessian(i, j) + hessian(j, i));
-        std::copy(gradient.begin(), gradient.end(), &gradients[k * n]);
-        std::copy(sum_gradient.begin(),
-                  sum_gradient.end(),
-                  &sum_gradients[k * n]);
+            values[i * (i + 1) / 2 + j] =
+              0.5 * (hessian[i * n + j] + hessian[j * n + i]);
+        std::copy(gradient, gradient + n, &gradients[k * n]);
+        std::copy(sum_gradient, sum_gradient + n, &sum_gradients[k * n]);
         constants[k]     = constant;
         sum_constants[k] = sum_constant;
       }
 
-      /// H(i, j) of @p cell.
-      double
-      hessian(const unsigned int cell,
-              const unsigned int i,
-              const unsigned int j) const
+      /// The lower triangle of H of @p cell, (i, j <= i) at i (i + 1) / 2 + j.
+      const double *
+      packed_hessian(const unsigned int cell) const
       {
-        const double *values = &hessians[std::size_t(position[cell]) * packed];
-        return (i >= j) ? values[i * (i + 1) / 2 + j] :
-                          values[j * (j + 1) / 2 + i];
+        return &hessians[std::size_t(position[cell]) * packed];
       }
 
       /// @p y = g- + H @p x (with @p with_gradient), or H @p x, of @p cell
@@ -1089,7 +1087,8 @@ namespace Signorini
                   q_values[e][c] = traction[c] * geometry.measure;
                   scale[e][c]    = std::abs(q_values[e][c]);
                 }
-              if (bc.body_force)
+              // (a parsed zero costs a parser call per point: skipped)
+              if (bc.body_force && !bc.body_force_zero)
                 {
                   auto &points = scratch.points;
                   auto &force  = scratch.force;
@@ -1368,9 +1367,9 @@ namespace Signorini
                   (system.body * body_solution) +
                   geometry.measure * (input.material.stress(strain) * strain);
                 quadratics.set(cell,
-                               full,
-                               gradient,
-                               sum_gradient,
+                               &full(0, 0),
+                               gradient.begin(),
+                               sum_gradient.begin(),
                                base - 2. * (system.admissible * body_solution),
                                base + 2. * (system.admissible * body_solution));
               }
@@ -1425,7 +1424,8 @@ namespace Signorini
 
         const auto &force_function =
           context.input.boundary_conditions.body_force;
-        if (!force_function)
+        if (!force_function ||
+            context.input.boundary_conditions.body_force_zero)
           return;
         const auto             &rule = context.rules.cell;
         std::vector<Point<dim>> points(rule.size());
@@ -1504,21 +1504,21 @@ namespace Signorini
                 const auto sum        = element.linear_part(data.geometry,
                                                      data.body_force,
                                                      -admissible);
-                FullMatrix<double> full(n, n);
-                Vector<double>     gradient(n), sum_gradient(n);
+                std::array<double, n * n> full;
+                std::array<double, n>     gradient, sum_gradient;
                 for (unsigned int a = 0; a < n; ++a)
                   {
                     const unsigned int t = data.traction_index[a];
                     for (unsigned int b = 0; b < n; ++b)
-                      full(a, b) = data.sign[a] * data.sign[b] *
-                                   hessian[t * n + data.traction_index[b]];
+                      full[a * n + b] = data.sign[a] * data.sign[b] *
+                                        hessian[t * n + data.traction_index[b]];
                     gradient[a]     = data.sign[a] * difference.first[t];
                     sum_gradient[a] = data.sign[a] * sum.first[t];
                   }
                 quadratics.set(cell,
-                               full,
-                               gradient,
-                               sum_gradient,
+                               full.data(),
+                               gradient.data(),
+                               sum_gradient.data(),
                                difference.second,
                                sum.second);
               }
@@ -1568,166 +1568,274 @@ namespace Signorini
         /// The columns of B: the dimension of the patch's changes.
         unsigned int n_changes = 0;
       };
-      std::vector<Patch> patch_of(hinges.size());
+      // the patches in blocks of consecutive computed hinges, each block's
+      // data contiguous: the preconditioner streams them every iteration
+      // (patches without changes are left out: they contribute nothing)
+      struct PatchBlock
+      {
+        /// Per patch: its first slot (one past the last: the next one's),
+        /// its first entry of B, the columns of B.
+        std::vector<unsigned int> slot_start{0}, correction_start{0}, n_changes;
+        /// Patch::slots, Patch::entries, Patch::correction, concatenated.
+        std::vector<unsigned int> slots, entries;
+        std::vector<double>       correction;
+
+        void
+        append(const Patch &patch)
+        {
+          if (patch.n_changes == 0)
+            return;
+          slots.insert(slots.end(), patch.slots.begin(), patch.slots.end());
+          entries.insert(entries.end(),
+                         patch.entries.begin(),
+                         patch.entries.end());
+          correction.insert(correction.end(),
+                            patch.correction.begin(),
+                            patch.correction.end());
+          slot_start.push_back(slots.size());
+          correction_start.push_back(correction.size());
+          n_changes.push_back(patch.n_changes);
+        }
+      };
       // (the work space of one thread's patches)
       struct Scratch
       {
         std::vector<std::array<int, n_element_values<dim>>> positions;
         FullMatrix<double> patch_hessian, constraints, work, hz, reduced;
       };
-      const auto describe_patch = [&](const unsigned int hinge,
-                                      Scratch           &scratch) {
-        Patch      &patch     = patch_of[hinge];
-        const auto &cells     = hinges.cells[hinge];
-        auto       &positions = scratch.positions;
-        positions.resize(cells.size());
-        for (unsigned int e = 0; e < cells.size(); ++e)
-          for (unsigned int f = 0; f <= dim; ++f)
+      const auto describe_patch =
+        [&](const unsigned int hinge, Scratch &scratch, Patch &patch) {
+          patch.slots.clear();
+          patch.entries.clear();
+          patch.n_changes       = 0;
+          const auto &cells     = hinges.cells[hinge];
+          auto       &positions = scratch.positions;
+          positions.resize(cells.size());
+          for (unsigned int e = 0; e < cells.size(); ++e)
+            for (unsigned int f = 0; f <= dim; ++f)
+              {
+                const unsigned int face    = mesh.cell_faces[cells[e]][f];
+                const bool         through = hinges.in_face(hinge, face);
+                for (unsigned int k = 0; k < dim; ++k)
+                  for (unsigned int c = 0; c < dim; ++c)
+                    {
+                      int &position = positions[e][(f * dim + k) * dim + c];
+                      position      = -1;
+                      if (!through || !free[face][c])
+                        continue;
+                      const unsigned int s = slot<dim>(face, k, c);
+                      const auto         it =
+                        std::find(patch.slots.begin(), patch.slots.end(), s);
+                      position = it - patch.slots.begin();
+                      if (it == patch.slots.end())
+                        {
+                          patch.slots.push_back(s);
+                          patch.entries.push_back(
+                            s * dim + hinges.position_in_face(hinge, face));
+                        }
+                    }
+              }
+          const unsigned int n_free = patch.slots.size();
+          if (n_free == 0)
+            return;
+          FullMatrix<double> &patch_hessian = scratch.patch_hessian;
+          FullMatrix<double> &constraints   = scratch.constraints;
+          FullMatrix<double> &work          = scratch.work;
+          patch_hessian.reinit(n_free, n_free);
+          constraints.reinit(n_rigid<dim> * cells.size(), n_free);
+          for (unsigned int e = 0; e < cells.size(); ++e)
             {
-              const unsigned int face    = mesh.cell_faces[cells[e]][f];
-              const bool         through = hinges.in_face(hinge, face);
-              for (unsigned int k = 0; k < dim; ++k)
-                for (unsigned int c = 0; c < dim; ++c)
-                  {
-                    int &position = positions[e][(f * dim + k) * dim + c];
-                    position      = -1;
-                    if (!through || !free[face][c])
-                      continue;
-                    const unsigned int s = slot<dim>(face, k, c);
-                    const auto         it =
-                      std::find(patch.slots.begin(), patch.slots.end(), s);
-                    position = it - patch.slots.begin();
-                    if (it == patch.slots.end())
+              const unsigned int      cell = cells[e];
+              const CellGeometry<dim> geometry(mesh, cell);
+              rigid_work(mesh, geometry, cell, work);
+              // (each packed entry read once, for both of its places: the
+              // slots of a cell are distinct, so every entry of the patch's
+              // Hessian receives the same terms in the same order)
+              const double *hessian = quadratics.packed_hessian(cell);
+              for (unsigned int a = 0; a < n_element_values<dim>; ++a)
+                {
+                  const int i = positions[e][a];
+                  if (i < 0)
+                    continue;
+                  const double *row = hessian + a * (a + 1) / 2;
+                  for (unsigned int b = 0; b < a; ++b)
+                    if (positions[e][b] >= 0)
                       {
-                        patch.slots.push_back(s);
-                        patch.entries.push_back(
-                          s * dim + hinges.position_in_face(hinge, face));
+                        patch_hessian(i, positions[e][b]) += row[b];
+                        patch_hessian(positions[e][b], i) += row[b];
                       }
-                  }
+                  patch_hessian(i, i) += row[a];
+                  for (unsigned int r = 0; r < n_rigid<dim>; ++r)
+                    constraints(e * n_rigid<dim> + r, i) = work(r, a);
+                }
             }
-        const unsigned int n_free = patch.slots.size();
-        if (n_free == 0)
-          return;
-        FullMatrix<double> &patch_hessian = scratch.patch_hessian;
-        FullMatrix<double> &constraints   = scratch.constraints;
-        FullMatrix<double> &work          = scratch.work;
-        patch_hessian.reinit(n_free, n_free);
-        constraints.reinit(n_rigid<dim> * cells.size(), n_free);
-        for (unsigned int e = 0; e < cells.size(); ++e)
-          {
-            const unsigned int      cell = cells[e];
-            const CellGeometry<dim> geometry(mesh, cell);
-            rigid_work(mesh, geometry, cell, work);
-            for (unsigned int a = 0; a < n_element_values<dim>; ++a)
-              {
-                const int i = positions[e][a];
-                if (i < 0)
-                  continue;
-                for (unsigned int b = 0; b < n_element_values<dim>; ++b)
-                  if (positions[e][b] >= 0)
-                    patch_hessian(i, positions[e][b]) +=
-                      quadratics.hessian(cell, a, b);
-                for (unsigned int r = 0; r < n_rigid<dim>; ++r)
-                  constraints(e * n_rigid<dim> + r, i) = work(r, a);
-              }
-          }
-        const FullMatrix<double> kernel =
-          SmallMatrices::kernel_basis(constraints);
-        const unsigned int m = kernel.n();
-        if (m == 0)
-          return;
-        FullMatrix<double> &hz = scratch.hz, &reduced = scratch.reduced;
-        hz.reinit(n_free, m);
-        reduced.reinit(m, m);
-        patch_hessian.mmult(hz, kernel);
-        kernel.Tmmult(reduced, hz);
-        double largest = 0.;
-        for (unsigned int i = 0; i < m; ++i)
-          largest = std::max(largest, reduced(i, i));
-        for (unsigned int i = 0; i < m; ++i)
-          reduced(i, i) += 1e-12 * largest;
-        if (!SmallMatrices::cholesky(reduced, 1e-14))
-          return;
-        // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T, row by row
-        patch.n_changes = m;
-        patch.correction.resize(n_free * m);
-        for (unsigned int i = 0; i < n_free; ++i)
-          {
-            double *const row = &patch.correction[i * m];
-            for (unsigned int j = 0; j < m; ++j)
-              {
-                double value = kernel(i, j);
-                for (unsigned int k = 0; k < j; ++k)
-                  value -= row[k] * reduced(j, k);
-                row[j] = value / reduced(j, j);
-              }
-          }
-      };
+          const FullMatrix<double> kernel =
+            SmallMatrices::kernel_basis(constraints);
+          const unsigned int m = kernel.n();
+          if (m == 0)
+            return;
+          FullMatrix<double> &hz = scratch.hz, &reduced = scratch.reduced;
+          hz.reinit(n_free, m);
+          reduced.reinit(m, m);
+          patch_hessian.mmult(hz, kernel);
+          kernel.Tmmult(reduced, hz);
+          double largest = 0.;
+          for (unsigned int i = 0; i < m; ++i)
+            largest = std::max(largest, reduced(i, i));
+          for (unsigned int i = 0; i < m; ++i)
+            reduced(i, i) += 1e-12 * largest;
+          if (!SmallMatrices::cholesky(reduced, 1e-14))
+            return;
+          // B = Z L^-T: B B^T = Z (L L^T)^-1 Z^T, row by row
+          patch.n_changes = m;
+          patch.correction.resize(n_free * m);
+          for (unsigned int i = 0; i < n_free; ++i)
+            {
+              double *const row = &patch.correction[i * m];
+              for (unsigned int j = 0; j < m; ++j)
+                {
+                  double value = kernel(i, j);
+                  for (unsigned int k = 0; k < j; ++k)
+                    value -= row[k] * reduced(j, k);
+                  row[j] = value / reduced(j, j);
+                }
+            }
+        };
       std::vector<unsigned int> computed;
       for (unsigned int h = 0; h < hinges.size(); ++h)
         if (hinges.computes[h])
           computed.push_back(h);
+      constexpr unsigned int  patches_per_block = 256;
+      std::vector<PatchBlock> blocks((computed.size() + patches_per_block - 1) /
+                                     patches_per_block);
       parallel::apply_to_subranges(
         0u,
-        static_cast<unsigned int>(computed.size()),
+        static_cast<unsigned int>(blocks.size()),
         [&](const unsigned int begin, const unsigned int end) {
           Scratch scratch;
-          for (unsigned int p = begin; p < end; ++p)
-            describe_patch(computed[p], scratch);
+          Patch   patch;
+          for (unsigned int b = begin; b < end; ++b)
+            for (unsigned int p = b * patches_per_block;
+                 p < std::min<std::size_t>((b + 1) * patches_per_block,
+                                           computed.size());
+                 ++p)
+              {
+                describe_patch(computed[p], scratch, patch);
+                blocks[b].append(patch);
+              }
         },
-        16);
+        1);
+
+      // (in blocks of a fixed size summed in order: the same sum on any
+      // number of threads; the passes that fuse a dot product use the same
+      // blocks, so they give the same sum)
+      constexpr std::size_t dot_block  = 4096;
+      const std::size_t   n_dot_blocks = (n_slots + dot_block - 1) / dot_block;
+      std::vector<double> dot_partial(n_dot_blocks);
+      const auto          sum_partial = [&dot_partial]() {
+        double sum = 0.;
+        for (const double p : dot_partial)
+          sum += p;
+        return sum;
+      };
+      const auto dot = [&](const std::vector<double> &a,
+                           const std::vector<double> &b) {
+        const std::size_t   n_a_blocks = (a.size() + dot_block - 1) / dot_block;
+        std::vector<double> partial(n_a_blocks);
+        parallel::apply_to_subranges(
+          std::size_t(0),
+          n_a_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k)
+              {
+                double sum = 0.;
+                for (std::size_t i = k * dot_block;
+                     i < std::min(a.size(), (k + 1) * dot_block);
+                     ++i)
+                  sum += a[i] * b[i];
+                partial[k] = sum;
+              }
+          },
+          4);
+        double sum = 0.;
+        for (const double p : partial)
+          sum += p;
+        return sum;
+      };
 
       // z = sum over the patches of B B^T r (each entry of the
       // contributions has one source: the sum is rank independent)
       std::vector<double> contributions(n_slots * dim);
-      const auto          precondition = [&](const std::vector<double> &r,
+      // (on one rank every call writes the same entries and the others stay
+      // zero: no need to clear them)
+      const bool several_ranks =
+        Utilities::MPI::n_mpi_processes(communicator) > 1;
+      const auto precondition = [&](const std::vector<double> &r,
                                     std::vector<double>       &z) {
-        std::fill(contributions.begin(), contributions.end(), 0.);
+        if (several_ranks)
+          std::fill(contributions.begin(), contributions.end(), 0.);
         parallel::apply_to_subranges(
           0u,
-          static_cast<unsigned int>(computed.size()),
+          static_cast<unsigned int>(blocks.size()),
           [&](const unsigned int begin, const unsigned int end) {
             std::vector<double> reduced;
-            for (unsigned int p = begin; p < end; ++p)
+            for (unsigned int b = begin; b < end; ++b)
               {
-                const Patch       &patch = patch_of[computed[p]];
-                const unsigned int m     = patch.n_changes;
-                if (m == 0)
-                  continue;
-                // B (B^T r)
-                reduced.assign(m, 0.);
-                for (unsigned int i = 0; i < patch.slots.size(); ++i)
+                const PatchBlock &block = blocks[b];
+                for (unsigned int p = 0; p < block.n_changes.size(); ++p)
                   {
-                    const double  value = r[patch.slots[i]];
-                    const double *row   = &patch.correction[i * m];
-                    for (unsigned int j = 0; j < m; ++j)
-                      reduced[j] += row[j] * value;
-                  }
-                for (unsigned int i = 0; i < patch.slots.size(); ++i)
-                  {
-                    const double *row   = &patch.correction[i * m];
-                    double        value = 0.;
-                    for (unsigned int j = 0; j < m; ++j)
-                      value += row[j] * reduced[j];
-                    contributions[patch.entries[i]] = value;
+                    const unsigned int m      = block.n_changes[p];
+                    const unsigned int first  = block.slot_start[p];
+                    const unsigned int n_free = block.slot_start[p + 1] - first;
+                    const unsigned int *slots = &block.slots[first];
+                    const unsigned int *entries = &block.entries[first];
+                    const double       *correction =
+                      &block.correction[block.correction_start[p]];
+                    // B (B^T r)
+                    reduced.assign(m, 0.);
+                    for (unsigned int i = 0; i < n_free; ++i)
+                      {
+                        const double  value = r[slots[i]];
+                        const double *row   = correction + i * m;
+                        for (unsigned int j = 0; j < m; ++j)
+                          reduced[j] += row[j] * value;
+                      }
+                    for (unsigned int i = 0; i < n_free; ++i)
+                      {
+                        const double *row   = correction + i * m;
+                        double        value = 0.;
+                        for (unsigned int j = 0; j < m; ++j)
+                          value += row[j] * reduced[j];
+                        contributions[entries[i]] = value;
+                      }
                   }
               }
           },
-          16);
+          1);
         sum_over_ranks(contributions, communicator);
+        // z, and r . z in the blocks of dot()
         parallel::apply_to_subranges(
-          0u,
-          n_slots,
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int s = begin; s < end; ++s)
+          std::size_t(0),
+          n_dot_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t b = begin; b < end; ++b)
               {
-                double value = 0.;
-                for (unsigned int k = 0; k < dim; ++k)
-                  value += contributions[s * dim + k];
-                z[s] = value;
+                double sum = 0.;
+                for (std::size_t s = b * dot_block;
+                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
+                     ++s)
+                  {
+                    double value = 0.;
+                    for (unsigned int k = 0; k < dim; ++k)
+                      value += contributions[s * dim + k];
+                    z[s] = value;
+                    sum += r[s] * z[s];
+                  }
+                dot_partial[b] = sum;
               }
           },
-          4096);
+          4);
+        return sum_partial();
       };
 
       // y = H x (+ g): the sum of the owned cells' contributions, at
@@ -1772,15 +1880,22 @@ namespace Signorini
                 }
           },
           64);
+        // y by slot, and on one rank x . y in the blocks of dot()
         parallel::apply_to_subranges(
-          0u,
-          n_faces,
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int face = begin; face < end; ++face)
-              for (unsigned int k = 0; k < dim; ++k)
-                for (unsigned int c = 0; c < dim; ++c)
+          std::size_t(0),
+          n_dot_blocks,
+          [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t b = begin; b < end; ++b)
+              {
+                double sum = 0.;
+                for (std::size_t s = b * dot_block;
+                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
+                     ++s)
                   {
-                    double value = 0.;
+                    const unsigned int face  = s / (dim * dim);
+                    const unsigned int k     = (s / dim) % dim;
+                    const unsigned int c     = s % dim;
+                    double             value = 0.;
                     for (unsigned int side = 0; side < 2; ++side)
                       {
                         const unsigned int cell = mesh.face_cells[face][side];
@@ -1789,53 +1904,18 @@ namespace Signorini
                             [std::size_t(owned_position[cell]) * n +
                              (local_face[face][side] * dim + k) * dim + c];
                       }
-                    y[slot<dim>(face, k, c)] = free[face][c] ? value : 0.;
+                    y[s] = free[face][c] ? value : 0.;
+                    sum += x[s] * y[s];
                   }
-          },
-          256);
-        sum_over_ranks(y, communicator);
-      };
-      // (in blocks of a fixed size summed in order: the same sum on any
-      // number of threads)
-      const auto dot = [](const std::vector<double> &a,
-                          const std::vector<double> &b) {
-        constexpr std::size_t block    = 4096;
-        const std::size_t     n_blocks = (a.size() + block - 1) / block;
-        std::vector<double>   partial(n_blocks);
-        parallel::apply_to_subranges(
-          std::size_t(0),
-          n_blocks,
-          [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k)
-              {
-                double sum = 0.;
-                for (std::size_t i = k * block;
-                     i < std::min(a.size(), (k + 1) * block);
-                     ++i)
-                  sum += a[i] * b[i];
-                partial[k] = sum;
+                dot_partial[b] = sum;
               }
           },
           4);
-        double sum = 0.;
-        for (const double p : partial)
-          sum += p;
-        return sum;
+        if (!several_ranks)
+          return sum_partial();
+        sum_over_ranks(y, communicator);
+        return dot(x, y);
       };
-      // x += alpha y on every slot, in parallel
-      const auto add = [n_slots](std::vector<double>       &x,
-                                 const double               alpha,
-                                 const std::vector<double> &y) {
-        parallel::apply_to_subranges(
-          0u,
-          n_slots,
-          [&](const unsigned int begin, const unsigned int end) {
-            for (unsigned int s = begin; s < end; ++s)
-              x[s] += alpha * y[s];
-          },
-          4096);
-      };
-
       // preconditioned conjugate gradients in the changes that keep every
       // element in equilibrium (each preconditioned residual is a sum of
       // such changes, so is every direction): every iterate is admissible
@@ -1844,9 +1924,8 @@ namespace Signorini
       multiply(densities, true, residual);
       for (double &r : residual)
         r = -r;
-      precondition(residual, z);
+      double rz         = precondition(residual, z);
       direction         = z;
-      double   rz       = dot(residual, z);
       double   decrease = 0.;
       Progress progress("estimate, enhanced densities", context.communicator);
       for (unsigned int iteration = 0;
@@ -1857,13 +1936,22 @@ namespace Signorini
             return "iteration " + std::to_string(iteration) + " of at most " +
                    std::to_string(settings.max_iterations);
           });
-          multiply(direction, false, product);
-          const double curvature = dot(direction, product);
+          const double curvature = multiply(direction, false, product);
           if (!(curvature > 0.))
             break;
           const double alpha = rz / curvature;
-          add(densities, alpha, direction);
-          add(residual, -alpha, product);
+          // (densities and residual in one pass)
+          parallel::apply_to_subranges(
+            0u,
+            n_slots,
+            [&](const unsigned int begin, const unsigned int end) {
+              for (unsigned int s = begin; s < end; ++s)
+                {
+                  densities[s] += alpha * direction[s];
+                  residual[s] += -alpha * product[s];
+                }
+            },
+            4096);
           const double step_decrease = 0.5 * alpha * rz;
           decrease += step_decrease;
           measure.push_back(step_decrease);
@@ -1871,8 +1959,7 @@ namespace Signorini
           // tolerance: beyond, the directions are noise)
           if (step_decrease <= std::max(settings.tolerance, 1e-13) * decrease)
             break;
-          precondition(residual, z);
-          const double rz_new = dot(residual, z);
+          const double rz_new = precondition(residual, z);
           const double beta   = rz_new / rz;
           rz                  = rz_new;
           parallel::apply_to_subranges(
@@ -1914,6 +2001,8 @@ namespace Signorini
       const auto  n_cells      = context.n_cells;
       std::mutex  mutex;
       double      largest_equilibrium_defect = 0.;
+      // (a parsed zero costs a parser call per point: skipped)
+      const bool with_force = bc.body_force && !bc.body_force_zero;
       parallel::apply_to_subranges(
         0u,
         n_cells,
@@ -1954,10 +2043,12 @@ namespace Signorini
 
                 // the resultant and moment of the element's data
                 rigid_work(mesh, geometry, cell, work);
-                for (unsigned int q = 0; q < rules.cell.size(); ++q)
-                  points[q] = geometry.point(rules.cell.point(q));
-                if (bc.body_force)
-                  bc.body_force->vector_value_list(points, force);
+                if (with_force)
+                  {
+                    for (unsigned int q = 0; q < rules.cell.size(); ++q)
+                      points[q] = geometry.point(rules.cell.point(q));
+                    bc.body_force->vector_value_list(points, force);
+                  }
                 for (unsigned int r = 0; r < n_rigid<dim>; ++r)
                   {
                     double value = 0., scale = 0.;
@@ -1966,7 +2057,8 @@ namespace Signorini
                         value += work(r, a) * d[a];
                         scale += std::abs(work(r, a) * d[a]);
                       }
-                    for (unsigned int q = 0; q < points.size(); ++q)
+                    for (unsigned int q = 0; with_force && q < points.size();
+                         ++q)
                       for (unsigned int c = 0; c < dim; ++c)
                         {
                           const double term =
