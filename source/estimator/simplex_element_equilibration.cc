@@ -1729,30 +1729,23 @@ namespace Signorini
       // (in blocks of a fixed size summed in order: the same sum on any
       // number of threads; the passes that fuse a dot product use the same
       // blocks, so they give the same sum)
-      constexpr std::size_t dot_block  = 4096;
-      const std::size_t   n_dot_blocks = (n_slots + dot_block - 1) / dot_block;
-      std::vector<double> dot_partial(n_dot_blocks);
-      const auto          sum_partial = [&dot_partial]() {
-        double sum = 0.;
-        for (const double p : dot_partial)
-          sum += p;
-        return sum;
-      };
-      const auto dot = [&](const std::vector<double> &a,
-                           const std::vector<double> &b) {
-        const std::size_t   n_a_blocks = (a.size() + dot_block - 1) / dot_block;
-        std::vector<double> partial(n_a_blocks);
+      // sum_s term(s) for s < n: term may also write its slot's entry of a
+      // vector, so that a pass fuses a dot product with the vector it makes
+      const auto blocked_sum = [](const std::size_t n, const auto &term) {
+        constexpr std::size_t block    = 4096;
+        const std::size_t     n_blocks = (n + block - 1) / block;
+        std::vector<double>   partial(n_blocks);
         parallel::apply_to_subranges(
           std::size_t(0),
-          n_a_blocks,
+          n_blocks,
           [&](const std::size_t begin, const std::size_t end) {
             for (std::size_t k = begin; k < end; ++k)
               {
                 double sum = 0.;
-                for (std::size_t i = k * dot_block;
-                     i < std::min(a.size(), (k + 1) * dot_block);
+                for (std::size_t i = k * block;
+                     i < std::min(n, (k + 1) * block);
                      ++i)
-                  sum += a[i] * b[i];
+                  sum += term(i);
                 partial[k] = sum;
               }
           },
@@ -1761,6 +1754,11 @@ namespace Signorini
         for (const double p : partial)
           sum += p;
         return sum;
+      };
+      const auto dot = [&](const std::vector<double> &a,
+                           const std::vector<double> &b) {
+        return blocked_sum(a.size(),
+                           [&](const std::size_t i) { return a[i] * b[i]; });
       };
 
       // z = sum over the patches of B B^T r (each entry of the
@@ -1813,29 +1811,14 @@ namespace Signorini
           },
           1);
         sum_over_ranks(contributions, communicator);
-        // z, and r . z in the blocks of dot()
-        parallel::apply_to_subranges(
-          std::size_t(0),
-          n_dot_blocks,
-          [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t b = begin; b < end; ++b)
-              {
-                double sum = 0.;
-                for (std::size_t s = b * dot_block;
-                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
-                     ++s)
-                  {
-                    double value = 0.;
-                    for (unsigned int k = 0; k < dim; ++k)
-                      value += contributions[s * dim + k];
-                    z[s] = value;
-                    sum += r[s] * z[s];
-                  }
-                dot_partial[b] = sum;
-              }
-          },
-          4);
-        return sum_partial();
+        // z, and r . z summed as dot() sums
+        return blocked_sum(n_slots, [&](const std::size_t s) {
+          double value = 0.;
+          for (unsigned int k = 0; k < dim; ++k)
+            value += contributions[s * dim + k];
+          z[s] = value;
+          return r[s] * value;
+        });
       };
 
       // y = H x (+ g): the sum of the owned cells' contributions, at
@@ -1880,39 +1863,25 @@ namespace Signorini
                 }
           },
           64);
-        // y by slot, and on one rank x . y in the blocks of dot()
-        parallel::apply_to_subranges(
-          std::size_t(0),
-          n_dot_blocks,
-          [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t b = begin; b < end; ++b)
-              {
-                double sum = 0.;
-                for (std::size_t s = b * dot_block;
-                     s < std::min<std::size_t>(n_slots, (b + 1) * dot_block);
-                     ++s)
-                  {
-                    const unsigned int face  = s / (dim * dim);
-                    const unsigned int k     = (s / dim) % dim;
-                    const unsigned int c     = s % dim;
-                    double             value = 0.;
-                    for (unsigned int side = 0; side < 2; ++side)
-                      {
-                        const unsigned int cell = mesh.face_cells[face][side];
-                        if (cell != invalid && mesh.owned[cell])
-                          value += cell_products
-                            [std::size_t(owned_position[cell]) * n +
-                             (local_face[face][side] * dim + k) * dim + c];
-                      }
-                    y[s] = free[face][c] ? value : 0.;
-                    sum += x[s] * y[s];
-                  }
-                dot_partial[b] = sum;
-              }
-          },
-          4);
+        // y by slot, and on one rank x . y summed as dot() sums
+        const double xy = blocked_sum(n_slots, [&](const std::size_t s) {
+          const unsigned int face  = s / (dim * dim);
+          const unsigned int k     = (s / dim) % dim;
+          const unsigned int c     = s % dim;
+          double             value = 0.;
+          for (unsigned int side = 0; side < 2; ++side)
+            {
+              const unsigned int cell = mesh.face_cells[face][side];
+              if (cell != invalid && mesh.owned[cell])
+                value +=
+                  cell_products[std::size_t(owned_position[cell]) * n +
+                                (local_face[face][side] * dim + k) * dim + c];
+            }
+          y[s] = free[face][c] ? value : 0.;
+          return x[s] * y[s];
+        });
         if (!several_ranks)
-          return sum_partial();
+          return xy;
         sum_over_ranks(y, communicator);
         return dot(x, y);
       };
