@@ -97,12 +97,13 @@ def run_timed(command, **kwargs):
     return time.perf_counter() - start
 
 
-def run_case(exe, overrides, workdir):
-    """Run block.prm with overrides; return (last statistics row, peak MiB)."""
+def run_case(exe, overrides, workdir, example_name="block.prm"):
+    """Run prm/@p example_name (block.prm) with overrides; return (last
+    statistics row, peak MiB)."""
     overrides = dict(overrides)
     overrides.setdefault("Output/Write vtu", "false")
     overrides.setdefault("Output/Print timing", "false")
-    prm, out = write_case("block.prm", overrides, workdir)
+    prm, out = write_case(example_name, overrides, workdir)
     with tempfile.TemporaryFile() as errors:
         process = subprocess.Popen([exe, prm], stdout=subprocess.DEVNULL,
                                    stderr=errors)
@@ -150,16 +151,17 @@ def median(values):
     return statistics.median(values)
 
 
-def measure_variants(exe, variants, repeat):
-    """Run every variant (name -> overrides) @p repeat times, interleaved so
-    that the machine's load affects all alike; return, per name, the last
-    statistics row, the median seconds and the peak MiB."""
+def measure_variants(exe, variants, repeat, example_name="block.prm"):
+    """Run every variant (name -> overrides of prm/@p example_name) @p repeat
+    times, interleaved so that the machine's load affects all alike; return,
+    per name, the last statistics row, the median seconds and the peak
+    MiB."""
     times = {key: [] for key in variants}
     rows, memory = {}, {key: 0. for key in variants}
     with tempfile.TemporaryDirectory() as work:
         for _ in range(repeat):
             for key, overrides in variants.items():
-                row, mib = run_case(exe, overrides, work)
+                row, mib = run_case(exe, overrides, work, example_name)
                 rows[key] = row
                 times[key].append(seconds(row))
                 memory[key] = max(memory[key], mib)

@@ -15,6 +15,7 @@
 
 #include <deal.II/distributed/shared_tria.h>
 
+#include <signorini/coarse_domain_mesher.h>
 #include <signorini/contact_computation.h>
 #include <signorini/input_error.h>
 #include <signorini/nodal_interpolation.h>
@@ -22,8 +23,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace Signorini
@@ -57,10 +60,12 @@ namespace Signorini
                       Patterns::Bool(),
                       "On the input mesh (the first cycle, a reference on the "
                       "initial mesh) and unless it starts from a previous "
-                      "mesh, compute first on the input mesh with fewer "
-                      "initial refinements, each computation started from "
-                      "the one before, and start the active set method from "
-                      "the last (Frank-Wolfe: no effect).");
+                      "mesh, compute first on coarser meshes, each started "
+                      "from the one before, and start the active set method "
+                      "from the last (Frank-Wolfe: no effect): the input "
+                      "mesh with fewer initial refinements, or, without "
+                      "initial refinements, its domain meshed again by Gmsh "
+                      "at coarser sizes.");
     prm.declare_entry("Nested start cells",
                       "2000",
                       Patterns::Integer(1),
@@ -538,8 +543,8 @@ namespace Signorini
     const ContactState &previous = last_contact_state;
     if (previous.empty())
       return {};
-    // A node of the new mesh is either a node of the previous one (keep its
-    // state) or lies between two of them (active if both were).
+    // A node of the new mesh that is a node of the previous one keeps its
+    // state.
     const auto       &nodes = gamma_c.multiplier_nodes();
     std::vector<bool> guess(nodes.size(), false);
     Point<dim>        lower = previous[0].first, upper = lower;
@@ -550,21 +555,34 @@ namespace Signorini
           upper[d] = std::max(upper[d], state.first[d]);
         }
     const double tolerance = 1e-10 * lower.distance(upper);
+    std::vector<std::array<unsigned int, 2>> nearest(nodes.size());
+    unsigned int                             n_kept = 0;
     for (unsigned int i = 0; i < nodes.size(); ++i)
       {
         const Point<dim> &x = gamma_c.node(nodes[i]).position;
-        std::vector<std::pair<double, bool>> by_distance;
-        for (const auto &[position, active] : previous)
-          by_distance.emplace_back(x.distance(position), active);
+        std::vector<std::pair<double, unsigned int>> by_distance;
+        for (unsigned int j = 0; j < previous.size(); ++j)
+          by_distance.emplace_back(x.distance(previous[j].first), j);
         const unsigned int n_nearest =
           std::min<std::size_t>(2, by_distance.size());
         std::partial_sort(by_distance.begin(),
                           by_distance.begin() + n_nearest,
                           by_distance.end());
-        guess[i] =
-          (by_distance[0].first < tolerance) ?
-            by_distance[0].second :
-            (by_distance[0].second && by_distance[n_nearest - 1].second);
+        nearest[i] = {
+          {by_distance[0].second, by_distance[n_nearest - 1].second}};
+        n_kept += (by_distance[0].first < tolerance) ? 1 : 0;
+      }
+    // A refined mesh keeps every node of the previous one: there a new
+    // node lies between two (active if both were). On a mesh made anew the
+    // nearest decides.
+    const bool refined = (n_kept == previous.size());
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      {
+        const bool active0 = previous[nearest[i][0]].second;
+        const bool active1 = previous[nearest[i][1]].second;
+        const bool kept    = gamma_c.node(nodes[i]).position.distance(
+                            previous[nearest[i][0]].first) < tolerance;
+        guess[i] = active0 && (kept || !refined || active1);
       }
     return guess;
   }
@@ -584,21 +602,53 @@ namespace Signorini
   void
   ContactComputation<dim>::start_from_coarser_meshes()
   {
+    Timer nested_timer;
+    // The coarser meshes, coarsest first, each about 2^dim times fewer
+    // cells than the next, the first with at most Nested start cells: the
+    // input with fewer refinements, or, for a mesh without coarser levels
+    // (a mesh file or a .geo not refined), its domain meshed again by Gmsh.
     const MeshInput<dim> &input      = *nested_start_input;
     const unsigned int    fine_level = input.initial_refinements;
-    // each refinement multiplies the cells by 2^dim
     const double fine_cells = dofs.get_triangulation().n_global_active_cells();
-    const auto   n_cells    = [&](const unsigned int level) {
-      return fine_cells /
-             Utilities::fixed_power<dim>(std::pow(2., fine_level - level));
+    const auto   n_cells    = [&](const unsigned int coarsening) {
+      return fine_cells / Utilities::fixed_power<dim>(std::pow(2., coarsening));
     };
-    unsigned int first_level = fine_level;
-    while (first_level > 0 && n_cells(first_level) > nested_start_cells)
-      --first_level;
-    if (first_level == fine_level)
+    std::vector<std::function<void(Triangulation<dim> &)>> coarser_meshes;
+    if (fine_level > 0)
+      {
+        unsigned int first_level = fine_level;
+        while (first_level > 0 &&
+               n_cells(fine_level - first_level) > nested_start_cells)
+          --first_level;
+        for (unsigned int level = first_level; level < fine_level; ++level)
+          coarser_meshes.emplace_back([&input, level](Triangulation<dim> &t) {
+            MeshInput<dim> coarser      = input;
+            coarser.initial_refinements = level;
+            coarser.create(t);
+          });
+      }
+    else if (fine_cells > nested_start_cells)
+      {
+        // (down to 4 times the fine size: measured on Gmsh meshes of the
+        // block, in 2D and 3D, the mesh at twice the size costs more time
+        // than it saves)
+        const unsigned int last       = 2;
+        unsigned int       coarsening = last;
+        while (n_cells(coarsening) > nested_start_cells)
+          ++coarsening;
+        std::vector<double> relative_sizes;
+        for (; coarsening >= last; --coarsening)
+          relative_sizes.push_back(std::pow(2., coarsening));
+        const auto mesher =
+          std::make_shared<CoarseDomainMesher<dim>>(dofs.get_triangulation(),
+                                                    relative_sizes);
+        for (unsigned int i = 0; i < relative_sizes.size(); ++i)
+          coarser_meshes.emplace_back(
+            [mesher, i](Triangulation<dim> &t) { mesher->create(i, t); });
+      }
+    if (coarser_meshes.empty())
       return;
 
-    Timer nested_timer;
     // The meshes are declared before the computation on them, so that its
     // DoFHandler is gone before they are (also when a step throws); they
     // are distributed as the current mesh.
@@ -614,10 +664,8 @@ namespace Signorini
                                                  /*with_nested_start=*/false));
         // (the chain of coarser meshes is the point)
         coarse->guess_from_previous_cycle = true;
-        for (unsigned int level = first_level; level < fine_level; ++level)
+        for (const auto &create_coarser_mesh : coarser_meshes)
           {
-            MeshInput<dim> coarser      = input;
-            coarser.initial_refinements = level;
             if (shared != nullptr)
               meshes.push_back(
                 std::make_unique<parallel::shared::Triangulation<dim>>(
@@ -627,7 +675,7 @@ namespace Signorini
                   parallel::shared::Triangulation<dim>::partition_metis));
             else
               meshes.push_back(std::make_unique<Triangulation<dim>>());
-            coarser.create(*meshes.back());
+            create_coarser_mesh(*meshes.back());
             coarse->setup(*meshes.back());
             coarse->assemble();
             coarse->solve();

@@ -1,3 +1,5 @@
+#include <deal.II/base/mpi.h>
+
 #include <signorini/gmsh_child_process.h>
 #include <signorini/progress.h>
 
@@ -117,6 +119,35 @@ namespace Signorini
       report_and_exit(job_done, result);
     }
   } // namespace
+
+
+
+  std::string
+  run_on_rank_0(const std::function<std::string()> &job)
+  {
+    const MPI_Comm communicator = MPI_COMM_WORLD;
+    const bool     distributed  = dealii::Utilities::MPI::job_supports_mpi();
+    std::string    error, result;
+    if (!distributed ||
+        dealii::Utilities::MPI::this_mpi_process(communicator) == 0)
+      try
+        {
+          result = job();
+        }
+      catch (const std::exception &exc)
+        {
+          error = exc.what();
+        }
+    if (distributed)
+      {
+        error = dealii::Utilities::MPI::broadcast(communicator, error);
+        if (error.empty())
+          result = dealii::Utilities::MPI::broadcast(communicator, result);
+      }
+    if (!error.empty())
+      throw std::runtime_error(error);
+    return result;
+  }
 
 
 

@@ -1042,26 +1042,16 @@ namespace Signorini
   {
     // rank 0 reads (Gmsh meshes a .geo once), every rank checks the same
     // bytes and gets the same mesh or the same error (also without MPI)
-    const MPI_Comm communicator = MPI_COMM_WORLD;
-    const bool     distributed  = Utilities::MPI::job_supports_mpi();
-    std::string    error, bytes;
-    if (!distributed || Utilities::MPI::this_mpi_process(communicator) == 0)
-      try
-        {
-          bytes = model_mesh_of(path, dim, max_cells).to_bytes();
-        }
-      catch (const std::exception &exc)
-        {
-          error = exc.what();
-        }
-    if (distributed)
+    std::string bytes;
+    try
       {
-        error = Utilities::MPI::broadcast(communicator, error);
-        if (error.empty())
-          bytes = Utilities::MPI::broadcast(communicator, bytes);
+        bytes = run_on_rank_0(
+          [&]() { return model_mesh_of(path, dim, max_cells).to_bytes(); });
       }
-    if (!error.empty())
-      throw InputError(error);
+    catch (const std::runtime_error &exc)
+      {
+        throw InputError(exc.what());
+      }
     const bool geometry = std::filesystem::path(path).extension() == ".geo";
     return checked_mesh<dim>(GmshModelMesh::from_bytes(bytes),
                              geometry ? path + " as meshed by Gmsh" : path);

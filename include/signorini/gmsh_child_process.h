@@ -30,6 +30,15 @@ namespace Signorini
   run_in_gmsh_child(const std::function<std::string()> &job,
                     const std::string                  &progress);
 
+  /**
+   * @p job (a call of run_in_gmsh_child(), or anything else that must run
+   * once) on rank 0 of MPI_COMM_WORLD, its result broadcast: every rank
+   * returns the same string, or throws std::runtime_error with the message
+   * of what @p job threw. Collective (also fine without MPI).
+   */
+  std::string
+  run_on_rank_0(const std::function<std::string()> &job);
+
   /// The child called exit(): a .geo file's Exit command.
   class GmshEndedProgram : public std::runtime_error
   {

@@ -169,6 +169,66 @@ namespace SignoriniTests
       }
   }
 
+  /// Run @p prm_file with @p overrides from scratch and with the nested
+  /// start (Contact/Nested start false, true), log both, and check that
+  /// both converge to the same discrete solution (same active set, energies
+  /// and contact forces to 1e-10 relative) with fewer active-set iterations
+  /// on the mesh itself for the nested start. Returns {scratch, nested}.
+  template <int dim = 2>
+  inline std::pair<Result, Result>
+  compare_starts(const std::string                        &prm_file,
+                 const std::map<std::string, std::string> &overrides,
+                 unsigned int                             &failures)
+  {
+    std::map<std::string, Result> results;
+    for (const std::string start : {"false", "true"})
+      {
+        auto o                    = overrides;
+        o["Contact/Nested start"] = start;
+        const Result r            = run<dim>(prm_file, o);
+        deallog << "nested start " << start << ": cells "
+                << r.statistics.at("cells") << ", active "
+                << r.statistics.at("active_nodes") << " of "
+                << r.statistics.at("contact_nodes") << ", iterations "
+                << r.statistics.at("iterations") << ", coarser meshes "
+                << r.statistics.at("nested_meshes") << " ("
+                << r.statistics.at("nested_iterations")
+                << " iterations), converged " << r.statistics.at("converged")
+                << std::endl;
+        if (r.statistics.at("converged") != "1")
+          {
+            deallog << "not converged: FAILED" << std::endl;
+            ++failures;
+          }
+        results[start] = r;
+      }
+    const Result &scratch = results["false"], &nested = results["true"];
+    const auto    relative = [&](const std::string &column) {
+      return std::abs(value(nested, column) - value(scratch, column)) /
+             std::abs(value(scratch, column));
+    };
+    if (nested.active == scratch.active)
+      deallog << "same active set: OK" << std::endl;
+    else
+      {
+        deallog << "same active set: FAILED" << std::endl;
+        ++failures;
+      }
+    expect_below("relative energy difference",
+                 relative("energy"),
+                 1e-10,
+                 failures);
+    expect_below("relative contact force difference",
+                 relative("contact_force"),
+                 1e-10,
+                 failures);
+    expect_below("fewer iterations on the mesh (nested - scratch)",
+                 value(nested, "iterations") - value(scratch, "iterations"),
+                 -1.,
+                 failures);
+    return {scratch, nested};
+  }
+
   /// The rows of the CSV file @p filename (a contact-CC.csv), each as
   /// column name -> value.
   inline std::vector<std::map<std::string, std::string>>
