@@ -38,6 +38,7 @@ namespace Signorini
     LinearElasticMaterial<dim>::declare_parameters(prm);
     BoundaryConditions<dim>::declare_parameters(prm);
     ContactBoundary<dim>::declare_parameters(prm);
+    FrictionLaw<dim>::declare_parameters(prm);
     ContactCondition<dim>::registry().declare_parameters(prm);
     ContactSolver<dim>::registry().declare_parameters(prm);
     ElasticitySolver::declare_parameters(prm);
@@ -111,13 +112,35 @@ namespace Signorini
     contact_condition = ContactCondition<dim>::registry().create(prm);
     contact_solver    = ContactSolver<dim>::registry().create(prm);
     elasticity_solver.parse_parameters(prm);
+    friction_law_.parse_parameters(prm);
+    if (friction_law_.enabled())
+      {
+        if (contact_condition->name() != "pointwise")
+          throw InputError("Contact/Friction = " + friction_law_.name() +
+                           " needs Contact/Condition = pointwise (the "
+                           "integral condition has no friction yet)");
+        if (dim == 3)
+          throw InputError("Contact/Friction = " + friction_law_.name() +
+                           ": friction is implemented in 2D only so far");
+        if (contact_solver->name() != "active set")
+          throw InputError("Contact/Friction = " + friction_law_.name() +
+                           " needs Contact/Solver = active set");
+        prm.enter_subsection("Contact");
+        prm.enter_subsection("Active set");
+        friction_max_iterations = prm.get_integer("Maximum iterations");
+        prm.leave_subsection();
+        prm.leave_subsection();
+      }
 
     for (const auto id : boundary_data.used_boundary_ids())
       if (gamma_c.boundary_ids().count(id) != 0)
         throw InputError("boundary id " + std::to_string(id) +
                          " is both a contact id and a Dirichlet/traction id");
 
-    nested_start = nested && contact_solver->uses_initial_active_set();
+    // (the coarser meshes would solve with friction too, for a guess of the
+    // normal active set only: not worth it yet)
+    nested_start = nested && contact_solver->uses_initial_active_set() &&
+                   !friction_law_.enabled();
   }
 
 
@@ -447,15 +470,22 @@ namespace Signorini
 
     const DiscreteContactProblem<dim> problem = contact_problem();
     problem.check_rigid_motions();
+    if (friction_law_.enabled() && problem.n_rigid_motions() > 0)
+      throw InputError("Contact/Friction: the Dirichlet data leave the body "
+                       "free to move; friction on a body held by the contact "
+                       "alone is not implemented yet");
     Timer solve_timer;
     {
-      TimerOutput::Scope t(timer, "contact solve");
-      last_summary.report =
-        contact_solver->solve(problem,
-                              solution,
-                              dual_solution,
-                              from_state ? initial_active_set_guess() :
-                                           std::vector<bool>());
+      TimerOutput::Scope      t(timer, "contact solve");
+      const std::vector<bool> guess =
+        from_state ? initial_active_set_guess() : std::vector<bool>();
+      if (friction_law_.enabled())
+        last_summary.report =
+          FrictionalActiveSetSolver<dim>(friction_law_, friction_max_iterations)
+            .solve(problem, solution, dual_solution, friction_state, guess);
+      else
+        last_summary.report =
+          contact_solver->solve(problem, solution, dual_solution, guess);
     }
     solve_timer.stop();
 
@@ -493,12 +523,25 @@ namespace Signorini
             }
         }
     }
-    last_summary.checks        = check_solution(problem,
+    // the friction forces on the body, at the tangential dofs
+    std::vector<std::pair<types::global_dof_index, double>> friction_forces;
+    for (unsigned int i = 0; i < friction_state.force.size(); ++i)
+      for (unsigned int c = 0; c < dim; ++c)
+        if (friction_state.force[i][c] != 0.)
+          friction_forces.emplace_back(
+            gamma_c.node(gamma_c.multiplier_nodes()[i]).dofs[c],
+            friction_state.force[i][c]);
+    last_summary.checks = check_solution(problem,
                                          solution,
                                          dual_solution,
                                          dirichlet_constraints,
                                          support_points,
-                                         dof_component);
+                                         dof_component,
+                                         friction_forces);
+    if (friction_law_.enabled())
+      check_friction(friction_state,
+                     problem.constraint_scale(solution),
+                     last_summary.checks);
     last_summary.energy        = problem.energy(solution);
     last_summary.setup_seconds = setup_timer.wall_time();
     last_summary.solve_seconds =
@@ -906,6 +949,24 @@ namespace Signorini
   ContactComputation<dim>::solver() const
   {
     return *contact_solver;
+  }
+
+
+
+  template <int dim>
+  const FrictionLaw<dim> &
+  ContactComputation<dim>::friction_law() const
+  {
+    return friction_law_;
+  }
+
+
+
+  template <int dim>
+  const FrictionState<dim> &
+  ContactComputation<dim>::friction() const
+  {
+    return friction_state;
   }
 
 

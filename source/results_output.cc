@@ -258,6 +258,19 @@ namespace Signorini
           << ", complementarity " << checks.complementarity << ", residual "
           << checks.residual << ", resultant " << checks.resultant
           << std::defaultfloat << std::setprecision(6) << std::endl;
+    if (computation.friction_law().enabled())
+      {
+        using Status      = typename FrictionState<dim>::Status;
+        const auto &state = computation.friction();
+        pcout << "   friction (" << computation.friction_law().name()
+              << "): " << state.count(Status::stick) << " nodes stick, "
+              << state.count(Status::slip) << " slip, tangential force "
+              << state.total_force() << std::endl
+              << std::setprecision(2) << std::scientific
+              << "   friction checks: bound " << checks.friction_bound
+              << ", stick " << checks.stick << ", slip " << checks.slip
+              << std::defaultfloat << std::setprecision(6) << std::endl;
+      }
     if (summary.nested.meshes > 0)
       pcout << "   nested start: " << summary.nested.meshes << " coarser mesh"
             << (summary.nested.meshes > 1 ? "es, " : ", ")
@@ -307,6 +320,17 @@ namespace Signorini
     table.add_value("resultant", summary.checks.resultant);
     table.add_value("contact_cells",
                     computation.contact_boundary().n_contact_cells());
+    if (computation.friction_law().enabled())
+      {
+        using Status      = typename FrictionState<dim>::Status;
+        const auto &state = computation.friction();
+        table.add_value("stick_nodes", state.count(Status::stick));
+        table.add_value("slip_nodes", state.count(Status::slip));
+        table.add_value("tangential_force", state.total_force().norm());
+        table.add_value("friction_bound", summary.checks.friction_bound);
+        table.add_value("stick", summary.checks.stick);
+        table.add_value("slip", summary.checks.slip);
+      }
   }
 
 

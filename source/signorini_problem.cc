@@ -107,6 +107,11 @@ namespace Signorini
     if (size_predictor->uses_estimate() && !estimator.enabled())
       throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
                        "> needs the error estimator (Error estimator/Enable)");
+    if (computation.friction_law().enabled() && estimator.enabled())
+      throw InputError(
+        "Contact/Friction = " + computation.friction_law().name() +
+        ": the error estimate with friction is not implemented "
+        "yet; set Error estimator/Enable = false");
     if (adaptation_target.enabled() && !estimator.enabled())
       throw InputError("Mesh adaptation/Target error: needs the error "
                        "estimator (Error estimator/Enable)");

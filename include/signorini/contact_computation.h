@@ -17,6 +17,8 @@
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/condition.h>
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/friction_law.h>
+#include <signorini/contact/frictional_active_set_solver.h>
 #include <signorini/contact/rigid_motions.h>
 #include <signorini/contact/solution_checks.h>
 #include <signorini/contact/solver.h>
@@ -195,6 +197,14 @@ namespace Signorini
     const ContactSolver<dim> &
     solver() const;
 
+    /// Contact/Friction and its parameters.
+    const FrictionLaw<dim> &
+    friction_law() const;
+
+    /// The friction of the last solve (empty without friction).
+    const FrictionState<dim> &
+    friction() const;
+
     const ElasticitySolver &
     linear_solver() const;
 
@@ -242,8 +252,12 @@ namespace Signorini
     ContactBoundary<dim>                   gamma_c;
     std::unique_ptr<ContactCondition<dim>> contact_condition;
     std::unique_ptr<ContactSolver<dim>>    contact_solver;
-    ElasticitySolver                       elasticity_solver;
-    bool                                   guess_from_previous_cycle = true;
+    FrictionLaw<dim>                       friction_law_;
+    /// Contact/Active set/Maximum iterations (for the frictional method).
+    unsigned int       friction_max_iterations = 100;
+    FrictionState<dim> friction_state;
+    ElasticitySolver   elasticity_solver;
+    bool               guess_from_previous_cycle = true;
     /// Largest relative solution check a converged computation may have.
     double check_tolerance = 1e-6;
     /// Whether the nested start is on (and the solver uses a guess).

@@ -342,6 +342,34 @@ namespace Signorini
 
 
   template <int dim>
+  unsigned int
+  DiscreteContactProblem<dim>::solve_with_friction(
+    const std::vector<bool>                                       &active,
+    const std::vector<types::global_dof_index>                    &fixed_dofs,
+    const std::vector<std::pair<types::global_dof_index, double>> &forces,
+    LA::Vector                                                    &u) const
+  {
+    AffineConstraints<double> constraints;
+    contact_condition.add_active_constraints(active,
+                                             contact_boundary,
+                                             constraints);
+    for (const auto dof : fixed_dofs)
+      constraints.add_line(dof);
+    constraints.merge(base_constraints,
+                      AffineConstraints<double>::no_conflicts_allowed);
+    constraints.close();
+    LA::Vector     load(load_vector);
+    const IndexSet owned = load.locally_owned_elements();
+    for (const auto &[dof, value] : forces)
+      if (owned.is_element(dof))
+        load[dof] += value;
+    load.compress(VectorOperation::add);
+    return linear_solver.solve(constraints, load, u, 0.);
+  }
+
+
+
+  template <int dim>
   void
   DiscreteContactProblem<dim>::update_preconditioner(
     const std::vector<bool> &active) const

@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 
+#include <signorini/contact/frictional_active_set_solver.h>
 #include <signorini/contact/solution_checks.h>
 
 #include <algorithm>
@@ -18,7 +19,10 @@ namespace Signorini
           std::make_pair("multiplier sign", multiplier_sign),
           std::make_pair("complementarity", complementarity),
           std::make_pair("residual", residual),
-          std::make_pair("resultant", resultant)})
+          std::make_pair("resultant", resultant),
+          std::make_pair("friction bound", friction_bound),
+          std::make_pair("stick", stick),
+          std::make_pair("slip", slip)})
       {
         if (std::isnan(value))
           return {name, value};
@@ -37,7 +41,9 @@ namespace Signorini
                  const Vector<double>              &y,
                  const AffineConstraints<double>   &dirichlet_constraints,
                  const std::vector<Point<dim>>     &support_points,
-                 const std::vector<unsigned int>   &dof_component)
+                 const std::vector<unsigned int>   &dof_component,
+                 const std::vector<std::pair<types::global_dof_index, double>>
+                   &friction_forces)
   {
     SolutionChecks checks;
 
@@ -62,6 +68,9 @@ namespace Signorini
     if (y.size() > 0)
       problem.boundary().add_normal_forces(problem.condition().nodal_forces(y),
                                            contact_forces);
+    for (const auto &[dof, value] : friction_forces)
+      if (contact_forces.locally_owned_elements().is_element(dof))
+        contact_forces[dof] += value;
     contact_forces.compress(VectorOperation::add);
 
     // r = F - K u (hanging rows condensed); the unbalanced force at a dof
@@ -155,18 +164,59 @@ namespace Signorini
     return checks;
   }
 
+  template <int dim>
+  void
+  check_friction(const FrictionState<dim> &state,
+                 const double              scale_primal,
+                 SolutionChecks           &checks)
+  {
+    using Status         = typename FrictionState<dim>::Status;
+    double largest_bound = 0.;
+    for (const double s : state.bound)
+      largest_bound = std::max(largest_bound, s);
+    const double scale_force =
+      std::max(largest_bound, std::numeric_limits<double>::min());
+    const double scale_slip =
+      std::max(scale_primal, std::numeric_limits<double>::min());
+    for (unsigned int i = 0; i < state.status.size(); ++i)
+      {
+        const double force = state.force[i].norm();
+        checks.friction_bound =
+          std::max(checks.friction_bound,
+                   (force - state.bound[i]) / scale_force);
+        const double slip = state.slip[i].norm();
+        if (state.status[i] == Status::stick)
+          checks.stick = std::max(checks.stick, slip / scale_slip);
+        else if (state.status[i] == Status::slip && slip > 0.)
+          checks.slip = std::max(
+            checks.slip,
+            (state.force[i] + state.bound[i] * state.slip[i] / slip).norm() /
+              scale_force);
+      }
+  }
+
+
+
   template SolutionChecks
-  check_solution<2>(const DiscreteContactProblem<2> &,
-                    const LA::Vector &,
-                    const Vector<double> &,
-                    const AffineConstraints<double> &,
-                    const std::vector<Point<2>> &,
-                    const std::vector<unsigned int> &);
+  check_solution<2>(
+    const DiscreteContactProblem<2> &,
+    const LA::Vector &,
+    const Vector<double> &,
+    const AffineConstraints<double> &,
+    const std::vector<Point<2>> &,
+    const std::vector<unsigned int> &,
+    const std::vector<std::pair<types::global_dof_index, double>> &);
   template SolutionChecks
-  check_solution<3>(const DiscreteContactProblem<3> &,
-                    const LA::Vector &,
-                    const Vector<double> &,
-                    const AffineConstraints<double> &,
-                    const std::vector<Point<3>> &,
-                    const std::vector<unsigned int> &);
+  check_solution<3>(
+    const DiscreteContactProblem<3> &,
+    const LA::Vector &,
+    const Vector<double> &,
+    const AffineConstraints<double> &,
+    const std::vector<Point<3>> &,
+    const std::vector<unsigned int> &,
+    const std::vector<std::pair<types::global_dof_index, double>> &);
+  template void
+  check_friction<2>(const FrictionState<2> &, const double, SolutionChecks &);
+  template void
+  check_friction<3>(const FrictionState<3> &, const double, SolutionChecks &);
 } // namespace Signorini

@@ -109,6 +109,20 @@ namespace Signorini
                           const double relative_tolerance = 0.) const;
 
     /**
+     * The same with friction (FrictionalActiveSetSolver): besides (B u)_A =
+     * b_A, the displacement dofs @p fixed_dofs are zero (the tangential
+     * components of the sticking nodes), and the nodal forces @p forces
+     * (dof, value) act with the load (the friction forces of the sliding
+     * nodes).
+     */
+    unsigned int
+    solve_with_friction(
+      const std::vector<bool>                                       &active,
+      const std::vector<types::global_dof_index>                    &fixed_dofs,
+      const std::vector<std::pair<types::global_dof_index, double>> &forces,
+      LA::Vector                                                    &u) const;
+
+    /**
      * Tune the linear solver's preconditioner to the active set @p active
      * (see ElasticitySolver::update_preconditioner()); an all-false set
      * restores the base preconditioner.

@@ -37,6 +37,14 @@ namespace Signorini
     double complementarity = 0.;
     double residual        = 0.;
     double resultant       = 0.;
+    /// Friction: max (|f_k| - s_k) / max s (the cone or the Tresca disc).
+    double friction_bound = 0.;
+    /// Friction: the largest slip of a sticking node, relative to the
+    /// constraint scale.
+    double stick = 0.;
+    /// Friction: max |f_k + s_k t_k / |t_k|| / max s over the sliding nodes
+    /// (the force at the bound, opposing the slip t_k).
+    double slip = 0.;
 
     /// The largest check and its name (a NaN check counts as the largest).
     std::pair<std::string, double>
@@ -54,7 +62,20 @@ namespace Signorini
                  const Vector<double>              &y,
                  const AffineConstraints<double>   &dirichlet_constraints,
                  const std::vector<Point<dim>>     &support_points,
-                 const std::vector<unsigned int>   &dof_component);
+                 const std::vector<unsigned int>   &dof_component,
+                 const std::vector<std::pair<types::global_dof_index, double>>
+                   &friction_forces = {});
+
+  template <int dim>
+  struct FrictionState;
+
+  /// The friction checks of @p state into @p checks (@p scale_primal: the
+  /// scale of the displacements, DiscreteContactProblem::constraint_scale()).
+  template <int dim>
+  void
+  check_friction(const FrictionState<dim> &state,
+                 const double              scale_primal,
+                 SolutionChecks           &checks);
 } // namespace Signorini
 
 #endif

@@ -1,0 +1,92 @@
+#ifndef signorini_contact_frictional_active_set_solver_h
+#define signorini_contact_frictional_active_set_solver_h
+
+#include <deal.II/base/tensor.h>
+
+#include <signorini/contact/friction_law.h>
+#include <signorini/contact/solver.h>
+
+#include <vector>
+
+namespace Signorini
+{
+  /**
+   * The frictional state of the contact nodes (one entry per constraint row
+   * of the pointwise condition).
+   */
+  template <int dim>
+  struct FrictionState
+  {
+    enum class Status : unsigned char
+    {
+      separated,
+      stick,
+      slip
+    };
+
+    std::vector<Status> status;
+    /// The tangential nodal force the foundation exerts on the body.
+    std::vector<Tensor<1, dim>> force;
+    /// The tangential displacement (the slip: the static problem starts
+    /// from the unloaded state).
+    std::vector<Tensor<1, dim>> slip;
+    /// The bound of |force|: mu times the normal force (Coulomb), or the
+    /// threshold times the node's area (Tresca).
+    std::vector<double> bound;
+
+    unsigned int
+    count(const Status s) const;
+
+    /// sum_k force_k
+    Tensor<1, dim>
+    total_force() const;
+  };
+
+  /**
+   * Primal-dual active set method for friction (Hueber, Stadler and
+   * Wohlmuth, SIAM J. Sci. Comput. 30 (2008); doc/theory.md section 10) on
+   * the pointwise condition, with the contact direction along a coordinate
+   * axis (the other components are the tangential ones). The normal rows
+   * follow ActiveSetSolver's rule. Friction is the fixed point
+   *   f_k = P_s(f_k - c_k t_k)
+   * (f_k the tangential force on node k, t_k its tangential displacement,
+   * P_s the projection onto the disc |f| <= s_k, c_k > 0 any scale: here
+   * K_ii of its tangential dofs). A node in contact sticks (t_k = 0 is
+   * imposed) when |f_k - c_k t_k| <= s_k, otherwise it slides under the
+   * prescribed force s_k (f_k - c_k t_k) / |f_k - c_k t_k|, which opposes
+   * its slip at the solution; a node entering contact starts sticking.
+   * Each step is a symmetric elasticity solve (stick: constraints, slip:
+   * nodal forces). The Coulomb bound s_k = mu y_k is that of the previous
+   * step, so the slip forces converge linearly; the method stops when the
+   * sets repeat and the slip forces have converged to round-off (they
+   * change by at most 1e-14 of the largest bound, or stop shrinking below
+   * 1e-9 of it). In 2D the slip direction is a sign; in 3D this fixed point
+   * on the direction does not converge (measured on an exact full-slip
+   * solution: the directions oscillate), and friction is refused there.
+   */
+  template <int dim>
+  class FrictionalActiveSetSolver
+  {
+  public:
+    FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
+                              const unsigned int      max_iterations);
+
+    /**
+     * Solve @p problem from @p u and the normal active set @p
+     * initial_active (may be empty); @p y the normal dual variable, @p
+     * state the friction.
+     */
+    typename ContactSolver<dim>::Report
+    solve(const DiscreteContactProblem<dim> &problem,
+          LA::Vector                        &u,
+          Vector<double>                    &y,
+          FrictionState<dim>                &state,
+          const std::vector<bool>           &initial_active = {}) const;
+
+  private:
+    const FrictionLaw<dim> &law;
+    const unsigned int      max_iterations;
+  };
+} // namespace Signorini
+
+#endif

@@ -1,0 +1,107 @@
+#include <deal.II/base/parsed_function.h>
+
+#include <signorini/contact/friction_law.h>
+#include <signorini/input_error.h>
+
+namespace Signorini
+{
+  template <int dim>
+  void
+  FrictionLaw<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    {
+      prm.declare_entry("Friction",
+                        "none",
+                        Patterns::Selection("none|Tresca|Coulomb"),
+                        "Friction on GC: none (frictionless), Tresca (the "
+                        "tangential traction bounded by Friction threshold) "
+                        "or Coulomb (bounded by Friction coefficient times "
+                        "the contact pressure); pointwise condition and "
+                        "active set method.");
+      prm.declare_entry("Friction coefficient",
+                        "0",
+                        Patterns::Double(0.),
+                        "Coulomb's mu >= 0.");
+      prm.enter_subsection("Friction threshold");
+      Functions::ParsedFunction<dim>::declare_parameters(prm, 1);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  void
+  FrictionLaw<dim>::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    {
+      const std::string name = prm.get("Friction");
+      law                    = (name == "Tresca")  ? Type::tresca :
+                               (name == "Coulomb") ? Type::coulomb :
+                                                     Type::none;
+      mu                     = prm.get_double("Friction coefficient");
+      if (!std::isfinite(mu))
+        throw InputError("Contact/Friction coefficient must be finite");
+      prm.enter_subsection("Friction threshold");
+      threshold_function =
+        parse_function<dim>(prm, 1, "Contact/Friction threshold");
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  typename FrictionLaw<dim>::Type
+  FrictionLaw<dim>::type() const
+  {
+    return law;
+  }
+
+
+
+  template <int dim>
+  bool
+  FrictionLaw<dim>::enabled() const
+  {
+    return law != Type::none;
+  }
+
+
+
+  template <int dim>
+  std::string
+  FrictionLaw<dim>::name() const
+  {
+    return law == Type::tresca  ? "Tresca" :
+           law == Type::coulomb ? "Coulomb" :
+                                  "none";
+  }
+
+
+
+  template <int dim>
+  double
+  FrictionLaw<dim>::coefficient() const
+  {
+    return mu;
+  }
+
+
+
+  template <int dim>
+  const Function<dim> &
+  FrictionLaw<dim>::threshold() const
+  {
+    return *threshold_function;
+  }
+
+
+
+  template class FrictionLaw<2>;
+  template class FrictionLaw<3>;
+} // namespace Signorini

@@ -1,0 +1,250 @@
+#include <signorini/contact/frictional_active_set_solver.h>
+#include <signorini/input_error.h>
+#include <signorini/progress.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace Signorini
+{
+  template <int dim>
+  unsigned int
+  FrictionState<dim>::count(const Status s) const
+  {
+    return std::count(status.begin(), status.end(), s);
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  FrictionState<dim>::total_force() const
+  {
+    Tensor<1, dim> total;
+    for (const auto &f : force)
+      total += f;
+    return total;
+  }
+
+
+
+  template <int dim>
+  FrictionalActiveSetSolver<dim>::FrictionalActiveSetSolver(
+    const FrictionLaw<dim> &law,
+    const unsigned int      max_iterations)
+    : law(law)
+    , max_iterations(max_iterations)
+  {}
+
+
+
+  template <int dim>
+  typename ContactSolver<dim>::Report
+  FrictionalActiveSetSolver<dim>::solve(
+    const DiscreteContactProblem<dim> &problem,
+    LA::Vector                        &u,
+    Vector<double>                    &y,
+    FrictionState<dim>                &state,
+    const std::vector<bool>           &initial_active) const
+  {
+    using Status                         = typename FrictionState<dim>::Status;
+    const ContactBoundary<dim> &boundary = problem.boundary();
+    const unsigned int          m        = problem.n_constraints();
+    const unsigned int          c_star   = boundary.constrained_component();
+    {
+      const Tensor<1, dim> nu = boundary.direction();
+      for (unsigned int c = 0; c < dim; ++c)
+        if (c != c_star && nu[c] != 0.)
+          throw InputError("Contact/Friction needs Contact/Direction along a "
+                           "coordinate axis (the tangential components are "
+                           "then the other ones)");
+    }
+
+    // per row: its tangential dofs (dim - 1 of them, in the order of the
+    // components), and whether friction acts there (no Dirichlet datum on
+    // a tangential component: otherwise the support takes the force)
+    std::vector<types::global_dof_index> dofs;
+    std::vector<bool>                    frictional(m, true);
+    const auto                          &constraints = problem.constraints();
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        const auto &node = boundary.node(boundary.multiplier_nodes()[i]);
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            dofs.push_back(node.dofs[c]);
+            if (c != c_star && constraints.is_constrained(node.dofs[c]))
+              frictional[i] = false;
+          }
+      }
+    // c_k: K_ii of the tangential dofs (the scale that makes f - c t a force
+    // whatever the units)
+    Vector<double> stiffness_diagonal;
+    {
+      LA::Vector diagonal(problem.load());
+      for (const auto i : diagonal.locally_owned_elements())
+        diagonal[i] = problem.stiffness().diag_element(i);
+      diagonal.compress(VectorOperation::insert);
+      stiffness_diagonal = gather(diagonal, dofs);
+    }
+
+    // Tresca: s_k = threshold(x_k) times the node's area
+    std::vector<double> tresca_bound(m, 0.);
+    if (law.type() == FrictionLaw<dim>::Type::tresca)
+      {
+        const Vector<double> areas = boundary.nodal_areas();
+        for (unsigned int i = 0; i < m; ++i)
+          {
+            const unsigned int k = boundary.multiplier_nodes()[i];
+            const double s = law.threshold().value(boundary.node(k).position);
+            if (!(s >= 0.) || !std::isfinite(s))
+              {
+                std::ostringstream where;
+                where << boundary.node(k).position;
+                throw InputError("Contact/Friction threshold is " +
+                                 std::to_string(s) + " at (" + where.str() +
+                                 "): it must be finite and >= 0");
+              }
+            tresca_bound[i] = s * areas[k];
+          }
+      }
+    const auto bound = [&](const unsigned int i) {
+      return law.type() == FrictionLaw<dim>::Type::coulomb ?
+               law.coefficient() * std::max(y[i], 0.) :
+               tresca_bound[i];
+    };
+
+    const double load_scale = problem.load().linfty_norm();
+
+    typename ContactSolver<dim>::Report report;
+    std::vector<bool>                   active = (initial_active.size() == m) ?
+                                                   initial_active :
+                                                   std::vector<bool>(m, false);
+    // every node in contact starts sticking, with no slip force
+    std::vector<bool>           stick(m, true);
+    std::vector<Tensor<1, dim>> slip_force(m);
+    state.status.assign(m, Status::separated);
+    state.force.assign(m, Tensor<1, dim>());
+    state.slip.assign(m, Tensor<1, dim>());
+    state.bound.assign(m, 0.);
+    Progress progress("frictional active set", u.get_mpi_communicator());
+    double   previous_change = std::numeric_limits<double>::infinity();
+
+    while (true)
+      {
+        progress.report(
+          [&]() { return "iteration " + std::to_string(report.iterations); });
+        std::vector<types::global_dof_index>                    fixed;
+        std::vector<std::pair<types::global_dof_index, double>> forces;
+        for (unsigned int i = 0; i < m; ++i)
+          if (active[i] && frictional[i])
+            for (unsigned int c = 0; c < dim; ++c)
+              if (c != c_star)
+                {
+                  if (stick[i])
+                    fixed.push_back(dofs[dim * i + c]);
+                  else
+                    forces.emplace_back(dofs[dim * i + c], slip_force[i][c]);
+                }
+        report.linear_iterations +=
+          problem.solve_with_friction(active, fixed, forces, u);
+        ++report.linear_solves;
+        ++report.iterations;
+        y = problem.dual_from_residual(active, u);
+
+        // the tangential forces on the body (K u = F + f: f = -(F - K u))
+        // and displacements of the nodes
+        const Vector<double> residual     = gather(problem.residual(u), dofs);
+        const Vector<double> displacement = gather(u, dofs);
+        const Vector<double> slack        = problem.slack(u);
+        const double         tol_slack    = 1e-9 * problem.constraint_scale(u);
+        const double         tol_y        = 1e-9 * max_norm(y);
+        // (the force of a free tangential dof is round-off, not friction)
+        double tol_force = std::max(max_norm(y), load_scale);
+        for (unsigned int i = 0; i < m; ++i)
+          for (unsigned int c = 0; c < dim; ++c)
+            if (c != c_star)
+              tol_force = std::max(tol_force, std::abs(residual[dim * i + c]));
+        tol_force *= 1e-9;
+        std::vector<bool>           next_active(m), next_stick(m, true);
+        std::vector<Tensor<1, dim>> next_force(m);
+        double                      largest_bound = 0., change = 0.;
+        for (unsigned int i = 0; i < m; ++i)
+          {
+            next_active[i] =
+              active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
+            Tensor<1, dim> force, slip;
+            for (unsigned int c = 0; c < dim; ++c)
+              if (c != c_star)
+                {
+                  force[c] = -residual[dim * i + c];
+                  slip[c]  = displacement[dim * i + c];
+                }
+            const double s  = bound(i);
+            largest_bound   = std::max(largest_bound, s);
+            state.status[i] = !active[i] ?
+                                Status::separated :
+                                (stick[i] ? Status::stick : Status::slip);
+            state.force[i]  = active[i] ? force : Tensor<1, dim>();
+            state.slip[i]   = slip;
+            state.bound[i]  = s;
+            if (!next_active[i] || !frictional[i])
+              continue;
+            double c_k = 0.;
+            for (unsigned int c = 0; c < dim; ++c)
+              if (c != c_star)
+                c_k += stiffness_diagonal[dim * i + c] / (dim - 1);
+            const Tensor<1, dim> xi = active[i] ? force - c_k * slip : force;
+            next_stick[i]           = !(xi.norm() > s + tol_force);
+            if (!next_stick[i])
+              {
+                next_force[i] = s * xi / xi.norm();
+                if (!stick[i] && active[i])
+                  change =
+                    std::max(change, (next_force[i] - slip_force[i]).norm());
+                else
+                  change = std::numeric_limits<double>::infinity();
+              }
+          }
+        // (the lagged slip forces converge linearly: on to round-off,
+        // where the change stops shrinking)
+        const bool same_sets = (next_active == active && next_stick == stick);
+        if (same_sets && (change <= 1e-14 * largest_bound ||
+                          (change <= 1e-9 * largest_bound &&
+                           change >= 0.5 * previous_change)))
+          {
+            report.converged = true;
+            break;
+          }
+        previous_change =
+          same_sets ? change : std::numeric_limits<double>::infinity();
+        if (report.iterations >= max_iterations)
+          break;
+        active     = next_active;
+        stick      = next_stick;
+        slip_force = next_force;
+      }
+
+    // the relative KKT residual: the normal conditions as
+    // ActiveSetSolver's, and the friction cone
+    const Vector<double> slack = problem.slack(u);
+    const double scale_primal  = std::max(problem.constraint_scale(u), 1e-300);
+    const double scale_dual    = std::max(max_norm(y), 1e-300);
+    for (unsigned int i = 0; i < m; ++i)
+      report.residual =
+        std::max({report.residual,
+                  -slack[i] / scale_primal,
+                  -y[i] / scale_dual,
+                  std::abs(y[i] * slack[i]) / (scale_dual * scale_primal),
+                  (state.force[i].norm() - state.bound[i]) / scale_dual});
+    return report;
+  }
+
+
+
+  template struct FrictionState<2>;
+  template struct FrictionState<3>;
+  template class FrictionalActiveSetSolver<2>;
+  template class FrictionalActiveSetSolver<3>;
+} // namespace Signorini
