@@ -541,6 +541,7 @@ namespace Signorini
     if (friction_law_.enabled())
       check_friction(friction_state,
                      problem.constraint_scale(solution),
+                     max_norm(dual_solution),
                      last_summary.checks);
     last_summary.energy        = problem.energy(solution);
     last_summary.setup_seconds = setup_timer.wall_time();

@@ -100,11 +100,11 @@ namespace Signorini
             const double s = law.threshold().value(boundary.node(k).position);
             if (!(s >= 0.) || !std::isfinite(s))
               {
-                std::ostringstream where;
-                where << boundary.node(k).position;
-                throw InputError("Contact/Friction threshold is " +
-                                 std::to_string(s) + " at (" + where.str() +
-                                 "): it must be finite and >= 0");
+                std::ostringstream text;
+                text << "Contact/Friction threshold is " << s << " at ("
+                     << boundary.node(k).position
+                     << "): it must be finite and >= 0";
+                throw InputError(text.str());
               }
             tresca_bound[i] = s * areas[k];
           }

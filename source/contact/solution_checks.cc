@@ -168,14 +168,16 @@ namespace Signorini
   void
   check_friction(const FrictionState<dim> &state,
                  const double              scale_primal,
+                 const double              scale_dual,
                  SolutionChecks           &checks)
   {
-    using Status         = typename FrictionState<dim>::Status;
-    double largest_bound = 0.;
+    using Status = typename FrictionState<dim>::Status;
+    // (the forces relative to the bounds, or to the normal forces when the
+    // bounds vanish: mu = 0)
+    double scale_force = scale_dual;
     for (const double s : state.bound)
-      largest_bound = std::max(largest_bound, s);
-    const double scale_force =
-      std::max(largest_bound, std::numeric_limits<double>::min());
+      scale_force = std::max(scale_force, s);
+    scale_force = std::max(scale_force, std::numeric_limits<double>::min());
     const double scale_slip =
       std::max(scale_primal, std::numeric_limits<double>::min());
     for (unsigned int i = 0; i < state.status.size(); ++i)
@@ -216,7 +218,13 @@ namespace Signorini
     const std::vector<unsigned int> &,
     const std::vector<std::pair<types::global_dof_index, double>> &);
   template void
-  check_friction<2>(const FrictionState<2> &, const double, SolutionChecks &);
+  check_friction<2>(const FrictionState<2> &,
+                    const double,
+                    const double,
+                    SolutionChecks &);
   template void
-  check_friction<3>(const FrictionState<3> &, const double, SolutionChecks &);
+  check_friction<3>(const FrictionState<3> &,
+                    const double,
+                    const double,
+                    SolutionChecks &);
 } // namespace Signorini

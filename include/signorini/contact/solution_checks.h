@@ -70,11 +70,13 @@ namespace Signorini
   struct FrictionState;
 
   /// The friction checks of @p state into @p checks (@p scale_primal: the
-  /// scale of the displacements, DiscreteContactProblem::constraint_scale()).
+  /// scale of the displacements, DiscreteContactProblem::constraint_scale();
+  /// @p scale_dual: that of the normal forces, max y).
   template <int dim>
   void
   check_friction(const FrictionState<dim> &state,
                  const double              scale_primal,
+                 const double              scale_dual,
                  SolutionChecks           &checks);
 } // namespace Signorini
 

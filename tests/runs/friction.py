@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Friction (Contact/Friction) against exact and independent solutions.
+
+Usage: friction.py SIGNORINI_BINARY SOURCE_DIR WORK_DIRECTORY
+
+On the strip of tests/runs/friction_strip.prm (pressure p = 0.1 and shear
+tau on top, plane strain, nu = 0.3, the left side carrying the exact
+displacement), every cycle must converge with the friction checks at
+round-off and
+- full slip (Coulomb mu = 0.3 or Tresca s = 0.03, tau = mu p): every node in
+  contact slides, and the exact affine solution is reproduced (relative
+  energy-norm error below 1e-7: the error's own round-off is about 5e-9);
+- full stick (tau = 0.02 < mu p, the lateral stress -nu p / (1 - nu) that
+  keeps the bottom from stretching): every node sticks, same accuracy;
+- bonded (tau = 0.06 > mu p with mu = 1e6): the solution of the strip glued
+  to the foundation, computed without friction (Dirichlet data on the
+  bottom): same energy (1e-10), same exact solution.
+On the paper's block (prm/block.prm, pointwise condition) mu = 0 gives the
+frictionless energies, contact forces and active sets (1e-12), and the
+Coulomb block (mu = 0.3) has sticking and sliding nodes and gives the same
+results on 1 and 2 ranks (tests/runs/serial_parallel.py).
+"""
+import os
+import shutil
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from serial_parallel import compare, read, run  # noqa: E402
+
+CHECKS = ["feasibility", "multiplier_sign", "complementarity", "residual",
+          "resultant", "friction_bound", "stick", "slip"]
+
+STICK = """
+subsection Boundary conditions
+  subsection Dirichlet 1
+    set Function constants  = p=0.1, nu=0.3, tau={tau}
+    set Function expression = 2*(1+nu)*tau*y; -p*(1+nu)*(1-2*nu)/(1-nu)*y
+  end
+  subsection Traction 1
+    set Function constants  = p=0.1, tau={tau}
+  end
+  subsection Traction 2
+    set Function constants  = p=0.1, nu=0.3, tau={tau}
+    set Function expression = -nu*p/(1-nu); tau
+  end
+end
+subsection Exact solution
+  set Function constants  = p=0.1, nu=0.3, tau={tau}
+  set Function expression = 2*(1+nu)*tau*y; -p*(1+nu)*(1-2*nu)/(1-nu)*y
+end
+"""
+
+TRESCA = """
+subsection Contact
+  set Friction = Tresca
+  subsection Friction threshold
+    set Function expression = 0.03
+  end
+end
+"""
+
+
+def contact(lines):
+    return "subsection Contact\n" + lines + "end\n"
+
+
+def main():
+    binary, source, work = sys.argv[1:4]
+    strip = os.path.join(source, "tests", "runs", "friction_strip.prm")
+    block = os.path.join(source, "tests", "inputs", "block.prm")
+    if not os.path.exists(block):
+        block = os.path.join(source, "prm", "block.prm")
+    shutil.rmtree(work, ignore_errors=True)
+    problems = []
+
+    def rows_of(name, prm, extra, ranks=1):
+        directory = os.path.join(work, name)
+        run(binary, prm, directory, ranks, extra)
+        rows = read(os.path.join(directory, "statistics.csv"))
+        for row in rows:
+            where = f"{name}, cycle {row['cycle']}"
+            if row["converged"] != "1":
+                problems.append(f"{where}: not converged")
+            for check in CHECKS:
+                if check in row and not float(row[check]) <= 1e-10:
+                    problems.append(f"{where}: {check} {row[check]}")
+        return rows
+
+    def exact(name, rows, status):
+        for row in rows:
+            where = f"{name}, cycle {row['cycle']}"
+            error = float(row["relative_energy_error"])
+            if not error < 1e-7:
+                problems.append(f"{where}: relative energy error {error}")
+            if row[status] != row["contact_nodes"]:
+                problems.append(f"{where}: {row[status]} of "
+                                f"{row['contact_nodes']} nodes {status}")
+        print(f"{name}: {[r[status] for r in rows]} {status}, relative "
+              f"energy error {[r['relative_energy_error'] for r in rows]}")
+
+    exact("slip, Coulomb", rows_of("slip-coulomb", strip, ""), "slip_nodes")
+    exact("slip, Tresca", rows_of("slip-tresca", strip, TRESCA), "slip_nodes")
+    stick = STICK.format(tau=0.02)
+    exact("stick, Coulomb", rows_of("stick-coulomb", strip, stick),
+          "stick_nodes")
+    exact("stick, Tresca", rows_of("stick-tresca", strip, stick + TRESCA),
+          "stick_nodes")
+
+    # bonded: mu = 1e6 against the strip glued by Dirichlet data
+    bonded = STICK.format(tau=0.06)
+    glued = bonded + contact("  set Boundary ids = \n  set Friction = none\n") + """
+subsection Boundary conditions
+  subsection Dirichlet 2
+    set Boundary ids        = 2
+    set Components          = x, y
+    set Function expression = 0; 0
+  end
+end
+"""
+    large = rows_of("bonded-mu", strip,
+                    bonded + contact("  set Friction coefficient = 1e6\n"))
+    exact("bonded, mu = 1e6", large, "stick_nodes")
+    reference = read(os.path.join(work, "bonded-glued", "statistics.csv")) \
+        if run(binary, strip, os.path.join(work, "bonded-glued"), 1, glued) \
+        is None else []
+    for a, b in zip(large, reference):
+        e1, e2 = float(a["energy"]), float(b["energy"])
+        if abs(e1 - e2) > 1e-10 * abs(e2):
+            problems.append(f"bonded, cycle {a['cycle']}: energy {e1} "
+                            f"against the glued strip's {e2}")
+    print(f"bonded: energies {[r['energy'] for r in large]}, glued "
+          f"{[r['energy'] for r in reference]}")
+
+    # mu = 0 is frictionless
+    pointwise = ("set Number of cycles = 3\n"
+                 "subsection Error estimator\n  set Enable = false\nend\n"
+                 "subsection Linear solver\n"
+                 "  set Relative tolerance = 1e-13\nend\n"
+                 + contact("  set Condition = pointwise\n"))
+    none = rows_of("block-none", block, pointwise)
+    zero = rows_of("block-mu0", block, pointwise + contact(
+        "  set Friction = Coulomb\n  set Friction coefficient = 0\n"))
+    for a, b in zip(none, zero):
+        for key in ["energy", "contact_force"]:
+            x, y = float(a[key]), float(b[key])
+            if abs(x - y) > 1e-12 * abs(x):
+                problems.append(f"mu = 0, cycle {a['cycle']}: {key} {y}, "
+                                f"frictionless {x}")
+        if a["active_nodes"] != b["active_nodes"]:
+            problems.append(f"mu = 0, cycle {a['cycle']}: active nodes "
+                            f"{b['active_nodes']}, frictionless "
+                            f"{a['active_nodes']}")
+        if abs(float(b["tangential_force"])) > \
+                1e-12 * abs(float(b["contact_force"])):
+            problems.append(f"mu = 0, cycle {a['cycle']}: tangential force "
+                            f"{b['tangential_force']}")
+    print(f"mu = 0: energies {[r['energy'] for r in zero]}, frictionless "
+          f"{[r['energy'] for r in none]}")
+
+    # the Coulomb block on 1 and 2 ranks
+    coulomb = pointwise + contact(
+        "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n")
+    one = rows_of("block-coulomb", block, coulomb)
+    two = rows_of("block-coulomb-np2", block, coulomb, 2)
+    problems += [f"Coulomb block, 1 vs 2 ranks: {p}" for p in
+                 compare(os.path.join(work, "block-coulomb"),
+                         os.path.join(work, "block-coulomb-np2"))]
+    for a, b in zip(one, two):
+        for key in ["stick_nodes", "slip_nodes"]:
+            if a[key] != b[key]:
+                problems.append(f"Coulomb block, cycle {a['cycle']}: {key} "
+                                f"{a[key]} on 1 rank, {b[key]} on 2")
+    if not any(int(r["stick_nodes"]) > 0 and int(r["slip_nodes"]) > 0
+               for r in one):
+        problems.append("Coulomb block: no cycle with both sticking and "
+                        "sliding nodes")
+    print(f"Coulomb block: stick {[r['stick_nodes'] for r in one]}, slip "
+          f"{[r['slip_nodes'] for r in one]}, energy "
+          f"{[r['energy'] for r in one]}")
+
+    for p in problems:
+        print("  " + p)
+    print("FAILED" if problems else "friction: exact slip, stick and bonded "
+          "solutions, mu = 0 frictionless, 1 and 2 ranks identical")
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()
