@@ -119,9 +119,6 @@ namespace Signorini
           throw InputError("Contact/Friction = " + friction_law_.name() +
                            " needs Contact/Condition = pointwise (the "
                            "integral condition has no friction yet)");
-        if (dim == 3)
-          throw InputError("Contact/Friction = " + friction_law_.name() +
-                           ": friction is implemented in 2D only so far");
         if (contact_solver->name() != "active set")
           throw InputError("Contact/Friction = " + friction_law_.name() +
                            " needs Contact/Solver = active set");

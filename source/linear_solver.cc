@@ -72,12 +72,22 @@ namespace Signorini
     class ConstrainedOperator
     {
     public:
-      ConstrainedOperator(const LA::SparseMatrix &matrix,
-                          const DistributedLines &lines,
-                          const LA::Vector       &layout)
+      ConstrainedOperator(
+        const LA::SparseMatrix &matrix,
+        const DistributedLines &lines,
+        const LA::Vector       &layout,
+        const std::vector<
+          std::tuple<types::global_dof_index, types::global_dof_index, double>>
+          &springs)
         : matrix(matrix)
         , lines(lines)
       {
+        // (the springs of the rows this rank owns: a vertex's dofs have one
+        // owner)
+        const IndexSet owned = layout.locally_owned_elements();
+        for (const auto &spring : springs)
+          if (owned.is_element(std::get<0>(spring)))
+            own_springs.push_back(spring);
         if (!lines.coupled.is_empty())
           ghosted = with_ghosts(layout, lines.coupled);
       }
@@ -98,6 +108,8 @@ namespace Signorini
           }
         distributed.compress(VectorOperation::insert);
         matrix.vmult(dst, distributed);
+        for (const auto &[i, j, value] : own_springs)
+          dst[i] += value * src[j];
         lines.add_to_masters(dst);
         for (const auto *line : lines.own)
           dst[line->index] = src[line->index];
@@ -107,8 +119,11 @@ namespace Signorini
     private:
       const LA::SparseMatrix &matrix;
       const DistributedLines &lines;
-      mutable LA::Vector      distributed;
-      mutable LA::Vector      ghosted;
+      std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+                         own_springs;
+      mutable LA::Vector distributed;
+      mutable LA::Vector ghosted;
     };
 
     /// Id_c + (P^{-1} restricted to the free dofs), P = K with the
@@ -486,10 +501,14 @@ namespace Signorini
 
 
   unsigned int
-  ElasticitySolver::solve(const AffineConstraints<double> &constraints,
-                          const LA::Vector                &load,
-                          LA::Vector                      &solution,
-                          const double                     tolerance_)
+  ElasticitySolver::solve(
+    const AffineConstraints<double> &constraints,
+    const LA::Vector                &load,
+    LA::Vector                      &solution,
+    const double                     tolerance_,
+    const std::vector<
+      std::tuple<types::global_dof_index, types::global_dof_index, double>>
+      &springs)
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
     if (!direct && !amg && !aggregation_amg)
@@ -527,7 +546,7 @@ namespace Signorini
       forces.compress(VectorOperation::insert);
       force_norm = forces.l2_norm();
     }
-    const ConstrainedOperator op(*stiffness_matrix, lines, load);
+    const ConstrainedOperator op(*stiffness_matrix, lines, load, springs);
     const double  tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
     SolverControl control(max_iterations, tol * force_norm, false, false);
     SolverCG<LA::Vector> cg(control);

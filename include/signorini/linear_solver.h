@@ -13,6 +13,7 @@
 #include <Epetra_MultiVector.h>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace Signorini
@@ -104,13 +105,20 @@ namespace Signorini
      * Solve with the constraints @p constraints (closed), the unconstrained
      * load @p load, starting from @p solution. Returns the CG iterations.
      * A @p relative_tolerance of zero means the parameter's value. Builds
-     * the base preconditioner if none is built.
+     * the base preconditioner if none is built. @p springs (row, column,
+     * value) are added to K: symmetric entries between dofs of one vertex,
+     * free of constraints (the friction of a sliding node in 3D); the
+     * preconditioner does not see them.
      */
     unsigned int
-    solve(const AffineConstraints<double> &constraints,
-          const LA::Vector                &load,
-          LA::Vector                      &solution,
-          const double                     relative_tolerance = 0.);
+    solve(
+      const AffineConstraints<double> &constraints,
+      const LA::Vector                &load,
+      LA::Vector                      &solution,
+      const double                     relative_tolerance = 0.,
+      const std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+        &springs = {});
 
     /// Free the preconditioner (its matrix and its hierarchy or
     /// factorisation); the next solve() or update_preconditioner() builds

@@ -347,7 +347,10 @@ namespace Signorini
     const std::vector<bool>                                       &active,
     const std::vector<types::global_dof_index>                    &fixed_dofs,
     const std::vector<std::pair<types::global_dof_index, double>> &forces,
-    LA::Vector                                                    &u) const
+    const std::vector<
+      std::tuple<types::global_dof_index, types::global_dof_index, double>>
+               &springs,
+    LA::Vector &u) const
   {
     AffineConstraints<double> constraints;
     contact_condition.add_active_constraints(active,
@@ -364,7 +367,7 @@ namespace Signorini
       if (owned.is_element(dof))
         load[dof] += value;
     load.compress(VectorOperation::add);
-    return linear_solver.solve(constraints, load, u, 0.);
+    return linear_solver.solve(constraints, load, u, 0., springs);
   }
 
 

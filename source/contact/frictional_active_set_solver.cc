@@ -3,6 +3,7 @@
 #include <signorini/progress.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -62,11 +63,12 @@ namespace Signorini
                            "then the other ones)");
     }
 
-    // per row: its tangential dofs (dim - 1 of them, in the order of the
-    // components), and whether friction acts there (no Dirichlet datum on
-    // a tangential component: otherwise the support takes the force)
+    // per row: its dofs, the tangential components free to slide (those
+    // without Dirichlet data: a support takes the force of the others, e.g.
+    // on a plane of symmetry) and whether there is one
     std::vector<types::global_dof_index> dofs;
-    std::vector<bool>                    frictional(m, true);
+    std::vector<std::array<bool, dim>>   sliding(m);
+    std::vector<bool>                    frictional(m, false);
     const auto                          &constraints = problem.constraints();
     for (unsigned int i = 0; i < m; ++i)
       {
@@ -74,8 +76,9 @@ namespace Signorini
         for (unsigned int c = 0; c < dim; ++c)
           {
             dofs.push_back(node.dofs[c]);
-            if (c != c_star && constraints.is_constrained(node.dofs[c]))
-              frictional[i] = false;
+            sliding[i][c] =
+              (c != c_star && !constraints.is_constrained(node.dofs[c]));
+            frictional[i] = frictional[i] || sliding[i][c];
           }
       }
     // c_k: K_ii of the tangential dofs (the scale that makes f - c t a force
@@ -124,6 +127,8 @@ namespace Signorini
     // every node in contact starts sticking, with no slip force
     std::vector<bool>           stick(m, true);
     std::vector<Tensor<1, dim>> slip_force(m);
+    // and the spring k_k across the slip direction n_k = slip_force / s_k
+    std::vector<double> spring(m, 0.);
     state.status.assign(m, Status::separated);
     state.force.assign(m, Tensor<1, dim>());
     state.slip.assign(m, Tensor<1, dim>());
@@ -137,18 +142,37 @@ namespace Signorini
           [&]() { return "iteration " + std::to_string(report.iterations); });
         std::vector<types::global_dof_index>                    fixed;
         std::vector<std::pair<types::global_dof_index, double>> forces;
+        std::vector<
+          std::tuple<types::global_dof_index, types::global_dof_index, double>>
+          springs;
         for (unsigned int i = 0; i < m; ++i)
           if (active[i] && frictional[i])
-            for (unsigned int c = 0; c < dim; ++c)
-              if (c != c_star)
+            for (unsigned int a = 0; a < dim; ++a)
+              if (sliding[i][a])
                 {
                   if (stick[i])
-                    fixed.push_back(dofs[dim * i + c]);
-                  else
-                    forces.emplace_back(dofs[dim * i + c], slip_force[i][c]);
+                    {
+                      fixed.push_back(dofs[dim * i + a]);
+                      continue;
+                    }
+                  forces.emplace_back(dofs[dim * i + a], slip_force[i][a]);
+                  // k (I - n n^T) on the tangential dofs (zero in 2D)
+                  const double norm_squared = slip_force[i].norm_square();
+                  for (unsigned int b = 0; b < dim; ++b)
+                    if (sliding[i][b] && spring[i] > 0. && norm_squared > 0.)
+                      {
+                        const double value =
+                          spring[i] *
+                          ((a == b ? 1. : 0.) -
+                           slip_force[i][a] * slip_force[i][b] / norm_squared);
+                        if (value != 0.)
+                          springs.emplace_back(dofs[dim * i + a],
+                                               dofs[dim * i + b],
+                                               value);
+                      }
                 }
         report.linear_iterations +=
-          problem.solve_with_friction(active, fixed, forces, u);
+          problem.solve_with_friction(active, fixed, forces, springs, u);
         ++report.linear_solves;
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
@@ -169,6 +193,7 @@ namespace Signorini
         tol_force *= 1e-9;
         std::vector<bool>           next_active(m), next_stick(m, true);
         std::vector<Tensor<1, dim>> next_force(m);
+        std::vector<double>         next_spring(m, 0.);
         double                      largest_bound = 0., change = 0.;
         for (unsigned int i = 0; i < m; ++i)
           {
@@ -176,7 +201,7 @@ namespace Signorini
               active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
             Tensor<1, dim> force, slip;
             for (unsigned int c = 0; c < dim; ++c)
-              if (c != c_star)
+              if (sliding[i][c])
                 {
                   force[c] = -residual[dim * i + c];
                   slip[c]  = displacement[dim * i + c];
@@ -191,28 +216,41 @@ namespace Signorini
             state.bound[i]  = s;
             if (!next_active[i] || !frictional[i])
               continue;
-            double c_k = 0.;
+            double       c_k       = 0.;
+            unsigned int n_sliding = 0;
             for (unsigned int c = 0; c < dim; ++c)
-              if (c != c_star)
-                c_k += stiffness_diagonal[dim * i + c] / (dim - 1);
+              if (sliding[i][c])
+                {
+                  c_k += stiffness_diagonal[dim * i + c];
+                  ++n_sliding;
+                }
+            c_k /= n_sliding;
             const Tensor<1, dim> xi = active[i] ? force - c_k * slip : force;
             next_stick[i]           = !(xi.norm() > s + tol_force);
             if (!next_stick[i])
               {
-                next_force[i] = s * xi / xi.norm();
+                // the semismooth Newton step linearises s xi / |xi|: the
+                // force s n along n = xi / |xi|, and across n a spring
+                // k = s c / (|xi| - s) on the tangential slip (capped: near
+                // |xi| = s it holds the node across n)
+                next_force[i]  = s * xi / xi.norm();
+                next_spring[i] = std::min(s * c_k / (xi.norm() - s), 1e3 * c_k);
                 if (!stick[i] && active[i])
-                  change =
-                    std::max(change, (next_force[i] - slip_force[i]).norm());
+                  change = std::max(change, (next_force[i] - force).norm());
                 else
                   change = std::numeric_limits<double>::infinity();
               }
           }
-        // (the lagged slip forces converge linearly: on to round-off,
-        // where the change stops shrinking)
-        const bool same_sets = (next_active == active && next_stick == stick);
-        if (same_sets && (change <= 1e-14 * largest_bound ||
-                          (change <= 1e-9 * largest_bound &&
-                           change >= 0.5 * previous_change)))
+        // (the slip forces converge on to round-off and the linear
+        // solver's tolerance, where the change stops shrinking; relative to
+        // the forces of the problem, of which the bounds may be a small
+        // part)
+        const bool   same_sets = (next_active == active && next_stick == stick);
+        const double force_scale =
+          std::max({largest_bound, max_norm(y), load_scale});
+        if (same_sets &&
+            (change <= 1e-14 * force_scale ||
+             (change <= 1e-8 * force_scale && change >= 0.5 * previous_change)))
           {
             report.converged = true;
             break;
@@ -224,6 +262,7 @@ namespace Signorini
         active     = next_active;
         stick      = next_stick;
         slip_force = next_force;
+        spring     = next_spring;
       }
 
     // the relative KKT residual: the normal conditions as

@@ -3,7 +3,8 @@
 
 Usage: friction.py SIGNORINI_BINARY SOURCE_DIR WORK_DIRECTORY
 
-On the strip of tests/runs/friction_strip.prm (pressure p = 0.1 and shear
+On the strip of tests/runs/friction_strip.prm (and the 3D block of
+friction_strip_3d.prm, sliding obliquely) (pressure p = 0.1 and shear
 tau on top, plane strain, nu = 0.3, the left side carrying the exact
 displacement), every cycle must converge with the friction checks at
 round-off and
@@ -18,7 +19,8 @@ round-off and
 On the paper's block (prm/block.prm, pointwise condition) mu = 0 gives the
 frictionless energies, contact forces and active sets (1e-12), and the
 Coulomb block (mu = 0.3) has sticking and sliding nodes and gives the same
-results on 1 and 2 ranks (tests/runs/serial_parallel.py).
+results on 1 and 2 ranks (tests/runs/serial_parallel.py); so does the 3D
+block (prm/block-3d.prm, one cycle).
 """
 import os
 import shutil
@@ -99,6 +101,11 @@ def main():
               f"energy error {[r['relative_energy_error'] for r in rows]}")
 
     exact("slip, Coulomb", rows_of("slip-coulomb", strip, ""), "slip_nodes")
+    strip_3d = os.path.join(source, "tests", "runs", "friction_strip_3d.prm")
+    exact("3D slip, Coulomb", rows_of("slip-3d-coulomb", strip_3d, ""),
+          "slip_nodes")
+    exact("3D slip, Tresca", rows_of("slip-3d-tresca", strip_3d, TRESCA),
+          "slip_nodes")
     exact("slip, Tresca", rows_of("slip-tresca", strip, TRESCA), "slip_nodes")
     stick = STICK.format(tau=0.02)
     exact("stick, Coulomb", rows_of("stick-coulomb", strip, stick),
@@ -175,6 +182,24 @@ end
         problems.append("Coulomb block: no cycle with both sticking and "
                         "sliding nodes")
     print(f"Coulomb block: stick {[r['stick_nodes'] for r in one]}, slip "
+          f"{[r['slip_nodes'] for r in one]}, energy "
+          f"{[r['energy'] for r in one]}")
+
+    # the 3D Coulomb block on 1 and 2 ranks
+    block_3d = os.path.join(source, "prm", "block-3d.prm")
+    coulomb_3d = coulomb.replace("set Number of cycles = 3",
+                                 "set Number of cycles = 1")
+    one = rows_of("block-3d-coulomb", block_3d, coulomb_3d)
+    two = rows_of("block-3d-coulomb-np2", block_3d, coulomb_3d, 2)
+    problems += [f"3D Coulomb block, 1 vs 2 ranks: {p}" for p in
+                 compare(os.path.join(work, "block-3d-coulomb"),
+                         os.path.join(work, "block-3d-coulomb-np2"))]
+    for a, b in zip(one, two):
+        for key in ["stick_nodes", "slip_nodes"]:
+            if a[key] != b[key]:
+                problems.append(f"3D Coulomb block: {key} {a[key]} on 1 "
+                                f"rank, {b[key]} on 2")
+    print(f"3D Coulomb block: stick {[r['stick_nodes'] for r in one]}, slip "
           f"{[r['slip_nodes'] for r in one]}, energy "
           f"{[r['energy'] for r in one]}")
 

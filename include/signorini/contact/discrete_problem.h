@@ -113,14 +113,17 @@ namespace Signorini
      * b_A, the displacement dofs @p fixed_dofs are zero (the tangential
      * components of the sticking nodes), and the nodal forces @p forces
      * (dof, value) act with the load (the friction forces of the sliding
-     * nodes).
+     * nodes), and the @p springs (ElasticitySolver::solve()) add to K.
      */
     unsigned int
     solve_with_friction(
       const std::vector<bool>                                       &active,
       const std::vector<types::global_dof_index>                    &fixed_dofs,
       const std::vector<std::pair<types::global_dof_index, double>> &forces,
-      LA::Vector                                                    &u) const;
+      const std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+                 &springs,
+      LA::Vector &u) const;
 
     /**
      * Tune the linear solver's preconditioner to the active set @p active

@@ -44,25 +44,25 @@ namespace Signorini
 
   /**
    * Primal-dual active set method for friction (Hueber, Stadler and
-   * Wohlmuth, SIAM J. Sci. Comput. 30 (2008); doc/theory.md section 10) on
+   * Wohlmuth, SIAM J. Sci. Comput. 30 (2008); doc/theory.md section 8) on
    * the pointwise condition, with the contact direction along a coordinate
-   * axis (the other components are the tangential ones). The normal rows
-   * follow ActiveSetSolver's rule. Friction is the fixed point
-   *   f_k = P_s(f_k - c_k t_k)
+   * axis (the other components are the tangential ones; a tangential
+   * component with Dirichlet data does not slide). The normal rows follow
+   * ActiveSetSolver's rule. Friction is the fixed point
+   *   f_k = P_s(xi_k),  xi_k = f_k - c_k t_k
    * (f_k the tangential force on node k, t_k its tangential displacement,
    * P_s the projection onto the disc |f| <= s_k, c_k > 0 any scale: here
    * K_ii of its tangential dofs). A node in contact sticks (t_k = 0 is
-   * imposed) when |f_k - c_k t_k| <= s_k, otherwise it slides under the
-   * prescribed force s_k (f_k - c_k t_k) / |f_k - c_k t_k|, which opposes
-   * its slip at the solution; a node entering contact starts sticking.
-   * Each step is a symmetric elasticity solve (stick: constraints, slip:
-   * nodal forces). The Coulomb bound s_k = mu y_k is that of the previous
-   * step, so the slip forces converge linearly; the method stops when the
+   * imposed) when |xi_k| <= s_k; otherwise it slides, and the semismooth
+   * Newton step linearises s xi / |xi|: the prescribed force s_k n_k along
+   * n_k = xi_k / |xi_k|, and across n_k a spring s_k c_k / (|xi_k| - s_k) on
+   * t_k (none in 2D, where n_k is a sign). A node entering contact starts
+   * sticking. Each step is one symmetric positive definite elasticity solve
+   * (stick: constraints, slip: nodal forces and springs). The Coulomb bound
+   * s_k = mu y_k is that of the previous step; the method stops when the
    * sets repeat and the slip forces have converged to round-off (they
-   * change by at most 1e-14 of the largest bound, or stop shrinking below
-   * 1e-9 of it). In 2D the slip direction is a sign; in 3D this fixed point
-   * on the direction does not converge (measured on an exact full-slip
-   * solution: the directions oscillate), and friction is refused there.
+   * change by at most 1e-14 of the problem's forces, or stop shrinking
+   * below 1e-8 of them: the linear solver's tolerance).
    */
   template <int dim>
   class FrictionalActiveSetSolver
