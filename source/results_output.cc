@@ -518,29 +518,53 @@ namespace Signorini
       return;
     const Vector<double> pressures = contact_boundary.nodal_pressures(forces);
 
-    output_files.write("contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
-                       [&](std::ostream &out) {
-                         const char *coordinates[] = {"x", "y", "z"};
-                         for (unsigned int d = 0; d < dim; ++d)
-                           out << coordinates[d] << ',';
-                         out
-                           << "multiplier_node,normal_displacement,gap,Lambda,"
-                              "nodal_force,active,nodal_pressure\n"
-                           << std::setprecision(12);
-                         for (const unsigned int k : order)
-                           {
-                             const auto &node = contact_boundary.node(k);
-                             const int   i    = row_of_node[k];
-                             for (unsigned int d = 0; d < dim; ++d)
-                               out << node.position[d] << ',';
-                             out << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
-                                 << contact_boundary.nodal_gap()[k] << ','
-                                 << (i >= 0 ? lambda[i] : 0.) << ','
-                                 << forces[k] << ','
-                                 << ((i >= 0 && active[i]) ? 1 : 0) << ','
-                                 << pressures[k] << '\n';
-                           }
-                       });
+    // with friction: per node its status, tangential force and slip
+    using Status                       = typename FrictionState<dim>::Status;
+    const FrictionState<dim> &friction = computation.friction();
+    const bool        with_friction    = computation.friction_law().enabled();
+    const char *const status_names[]   = {"separated", "stick", "slip"};
+
+    output_files.write(
+      "contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
+      [&](std::ostream &out) {
+        const char *coordinates[] = {"x", "y", "z"};
+        for (unsigned int d = 0; d < dim; ++d)
+          out << coordinates[d] << ',';
+        out << "multiplier_node,normal_displacement,gap,Lambda,"
+               "nodal_force,active,nodal_pressure";
+        if (with_friction)
+          {
+            out << ",friction_status";
+            for (unsigned int d = 0; d < dim; ++d)
+              out << ",tangential_force_" << coordinates[d];
+            for (unsigned int d = 0; d < dim; ++d)
+              out << ",slip_" << coordinates[d];
+          }
+        out << '\n' << std::setprecision(12);
+        for (const unsigned int k : order)
+          {
+            const auto &node = contact_boundary.node(k);
+            const int   i    = row_of_node[k];
+            for (unsigned int d = 0; d < dim; ++d)
+              out << node.position[d] << ',';
+            out << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
+                << contact_boundary.nodal_gap()[k] << ','
+                << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
+                << ((i >= 0 && active[i]) ? 1 : 0) << ',' << pressures[k];
+            if (with_friction)
+              {
+                out << ','
+                    << (i >= 0 ?
+                          status_names[static_cast<int>(friction.status[i])] :
+                          "held");
+                for (unsigned int d = 0; d < dim; ++d)
+                  out << ',' << (i >= 0 ? friction.force[i][d] : 0.);
+                for (unsigned int d = 0; d < dim; ++d)
+                  out << ',' << (i >= 0 ? friction.slip[i][d] : 0.);
+              }
+            out << '\n';
+          }
+      });
   }
 
 
@@ -623,6 +647,47 @@ namespace Signorini
                              nodal_pressure,
                              "nodal_pressure");
     data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
+    // with friction: the tangential force and the slip of each node of GC
+    // (P1 vector fields vanishing away from it) and its status (0
+    // separated, 1 stick, 2 slip)
+    Vector<double> friction_status, tangential_force, slip;
+    if (computation.friction_law().enabled())
+      {
+        const FrictionState<dim>   &friction = computation.friction();
+        const ContactBoundary<dim> &contact_boundary =
+          computation.contact_boundary();
+        std::map<unsigned int, types::global_dof_index> dof_of_vertex;
+        for (const auto &cell : scalar_dof_handler.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
+        friction_status.reinit(scalar_dof_handler.n_dofs());
+        tangential_force.reinit(dof_handler.n_dofs());
+        slip.reinit(dof_handler.n_dofs());
+        const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+        for (unsigned int i = 0; i < friction.status.size(); ++i)
+          {
+            const auto &node = contact_boundary.node(multiplier_nodes[i]);
+            friction_status[dof_of_vertex[node.vertex]] =
+              static_cast<double>(friction.status[i]);
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                tangential_force[node.dofs[d]] = friction.force[i][d];
+                slip[node.dofs[d]]             = friction.slip[i][d];
+              }
+          }
+        data_out.add_data_vector(scalar_dof_handler,
+                                 friction_status,
+                                 "friction_status");
+        data_out.add_data_vector(dof_handler,
+                                 tangential_force,
+                                 std::vector<std::string>(dim,
+                                                          "tangential_force"),
+                                 vector_part);
+        data_out.add_data_vector(dof_handler,
+                                 slip,
+                                 std::vector<std::string>(dim, "slip"),
+                                 vector_part);
+      }
     std::unique_ptr<CellDataPostprocessor<dim>> eps_E_field;
     if (eps_E != nullptr)
       {

@@ -101,6 +101,22 @@ def main():
               f"energy error {[r['relative_energy_error'] for r in rows]}")
 
     exact("slip, Coulomb", rows_of("slip-coulomb", strip, ""), "slip_nodes")
+    # the contact table: every node with a multiplier slides by the exact
+    # slip exx x + g, under the force -tau times its length
+    nodes = read(os.path.join(work, "slip-coulomb", "contact-00.csv"))
+    for n in nodes:
+        if n["multiplier_node"] != "1":
+            continue
+        x = float(n["x"])
+        length = (0.5 if x in (0., 1.) else 1.) / 16
+        exact_slip = 0.3 * 1.3 * 0.1 * x + 0.01
+        if n["friction_status"] != "slip" or \
+                abs(float(n["slip_x"]) - exact_slip) > 1e-9 or \
+                abs(float(n["tangential_force_x"]) + 0.03 * length) > 1e-12:
+            problems.append(f"slip, contact-00.csv at x = {x}: "
+                            f"{n['friction_status']}, slip {n['slip_x']} "
+                            f"(exact {exact_slip}), force "
+                            f"{n['tangential_force_x']}")
     strip_3d = os.path.join(source, "tests", "runs", "friction_strip_3d.prm")
     exact("3D slip, Coulomb", rows_of("slip-3d-coulomb", strip_3d, ""),
           "slip_nodes")
