@@ -10,6 +10,89 @@
 
 namespace Signorini
 {
+  namespace
+  {
+    /// What the method needs to know of each constraint row (node of GC).
+    template <int dim>
+    struct FrictionRows
+    {
+      /// The dofs of the node, dim per row.
+      std::vector<types::global_dof_index> dofs;
+      /// The tangential components free to slide: those without Dirichlet
+      /// data (a support takes the force of the others, e.g. on a plane of
+      /// symmetry).
+      std::vector<std::array<bool, dim>> sliding;
+      /// Whether a component slides at all.
+      std::vector<bool> frictional;
+      /// K_ii of the dofs (c_k: the scale that makes f - c t a force
+      /// whatever the units).
+      Vector<double> stiffness_diagonal;
+    };
+
+    template <int dim>
+    FrictionRows<dim>
+    describe_rows(const DiscreteContactProblem<dim> &problem)
+    {
+      const ContactBoundary<dim> &boundary = problem.boundary();
+      const unsigned int          m        = problem.n_constraints();
+      const unsigned int          c_star   = boundary.constrained_component();
+      const Tensor<1, dim>        nu       = boundary.direction();
+      for (unsigned int c = 0; c < dim; ++c)
+        if (c != c_star && nu[c] != 0.)
+          throw InputError("Contact/Friction needs Contact/Direction along a "
+                           "coordinate axis (the tangential components are "
+                           "then the other ones)");
+      FrictionRows<dim> rows;
+      rows.sliding.resize(m);
+      rows.frictional.assign(m, false);
+      const auto &constraints = problem.constraints();
+      for (unsigned int i = 0; i < m; ++i)
+        {
+          const auto &node = boundary.node(boundary.multiplier_nodes()[i]);
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              rows.dofs.push_back(node.dofs[c]);
+              rows.sliding[i][c] =
+                (c != c_star && !constraints.is_constrained(node.dofs[c]));
+              rows.frictional[i] = rows.frictional[i] || rows.sliding[i][c];
+            }
+        }
+      LA::Vector diagonal(problem.load());
+      for (const auto i : diagonal.locally_owned_elements())
+        diagonal[i] = problem.stiffness().diag_element(i);
+      diagonal.compress(VectorOperation::insert);
+      rows.stiffness_diagonal = gather(diagonal, rows.dofs);
+      return rows;
+    }
+
+    /// Tresca's s_k: the threshold at the node times its area.
+    template <int dim>
+    std::vector<double>
+    tresca_bounds(const FrictionLaw<dim>     &law,
+                  const ContactBoundary<dim> &boundary)
+    {
+      const Vector<double> areas = boundary.nodal_areas();
+      const auto          &rows  = boundary.multiplier_nodes();
+      std::vector<double>  bounds(rows.size());
+      for (unsigned int i = 0; i < rows.size(); ++i)
+        {
+          const Point<dim> &x = boundary.node(rows[i]).position;
+          const double      s = law.threshold().value(x);
+          if (!(s >= 0.) || !std::isfinite(s))
+            {
+              std::ostringstream text;
+              text << "Contact/Friction threshold is " << s << " at (" << x
+                   << "): it must be finite and >= 0";
+              throw InputError(text.str());
+            }
+          bounds[i] = s * areas[rows[i]];
+        }
+      return bounds;
+    }
+  } // namespace
+
+
+
   template <int dim>
   unsigned int
   FrictionState<dim>::count(const Status s) const
@@ -54,64 +137,15 @@ namespace Signorini
     const ContactBoundary<dim> &boundary = problem.boundary();
     const unsigned int          m        = problem.n_constraints();
     const unsigned int          c_star   = boundary.constrained_component();
-    {
-      const Tensor<1, dim> nu = boundary.direction();
-      for (unsigned int c = 0; c < dim; ++c)
-        if (c != c_star && nu[c] != 0.)
-          throw InputError("Contact/Friction needs Contact/Direction along a "
-                           "coordinate axis (the tangential components are "
-                           "then the other ones)");
-    }
-
-    // per row: its dofs, the tangential components free to slide (those
-    // without Dirichlet data: a support takes the force of the others, e.g.
-    // on a plane of symmetry) and whether there is one
-    std::vector<types::global_dof_index> dofs;
-    std::vector<std::array<bool, dim>>   sliding(m);
-    std::vector<bool>                    frictional(m, false);
-    const auto                          &constraints = problem.constraints();
-    for (unsigned int i = 0; i < m; ++i)
-      {
-        const auto &node = boundary.node(boundary.multiplier_nodes()[i]);
-        for (unsigned int c = 0; c < dim; ++c)
-          {
-            dofs.push_back(node.dofs[c]);
-            sliding[i][c] =
-              (c != c_star && !constraints.is_constrained(node.dofs[c]));
-            frictional[i] = frictional[i] || sliding[i][c];
-          }
-      }
-    // c_k: K_ii of the tangential dofs (the scale that makes f - c t a force
-    // whatever the units)
-    Vector<double> stiffness_diagonal;
-    {
-      LA::Vector diagonal(problem.load());
-      for (const auto i : diagonal.locally_owned_elements())
-        diagonal[i] = problem.stiffness().diag_element(i);
-      diagonal.compress(VectorOperation::insert);
-      stiffness_diagonal = gather(diagonal, dofs);
-    }
-
-    // Tresca: s_k = threshold(x_k) times the node's area
-    std::vector<double> tresca_bound(m, 0.);
-    if (law.type() == FrictionLaw<dim>::Type::tresca)
-      {
-        const Vector<double> areas = boundary.nodal_areas();
-        for (unsigned int i = 0; i < m; ++i)
-          {
-            const unsigned int k = boundary.multiplier_nodes()[i];
-            const double s = law.threshold().value(boundary.node(k).position);
-            if (!(s >= 0.) || !std::isfinite(s))
-              {
-                std::ostringstream text;
-                text << "Contact/Friction threshold is " << s << " at ("
-                     << boundary.node(k).position
-                     << "): it must be finite and >= 0";
-                throw InputError(text.str());
-              }
-            tresca_bound[i] = s * areas[k];
-          }
-      }
+    const FrictionRows<dim>     rows     = describe_rows(problem);
+    const auto                 &dofs     = rows.dofs;
+    const auto                 &sliding  = rows.sliding;
+    const auto                 &frictional         = rows.frictional;
+    const auto                 &stiffness_diagonal = rows.stiffness_diagonal;
+    const std::vector<double>   tresca_bound =
+      (law.type() == FrictionLaw<dim>::Type::tresca) ?
+          tresca_bounds(law, boundary) :
+          std::vector<double>(m, 0.);
     const auto bound = [&](const unsigned int i) {
       return law.type() == FrictionLaw<dim>::Type::coulomb ?
                law.coefficient() * std::max(y[i], 0.) :
