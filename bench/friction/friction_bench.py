@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""The cost of friction: the contact solve with Coulomb friction against the
+frictionless one on the same mesh.
+
+prm/block.prm (2D) and prm/block-3d.prm (3D), refined --levels times, one
+computation, pointwise condition, active set method, estimator off; each
+without friction and with Coulomb mu = 0.3. Prints per mesh: DoFs, the
+active-set iterations, the CG iterations, the seconds of the contact solve
+(linear solver setup + solve) and the ratio frictional / frictionless.
+Medians of --repeat runs, interleaved.
+
+Usage: bench/friction/friction_bench.py [--repeat 3] [--levels2d 4 5]
+                                        [--levels3d 0 1] [--build build]
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import runner  # noqa: E402
+from runner import measure_variants, single_mesh  # noqa: E402
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    runner.add_build_argument(parser)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--levels2d", type=int, nargs="*", default=[4, 5])
+    parser.add_argument("--levels3d", type=int, nargs="*", default=[0, 1])
+    args = parser.parse_args()
+    exe = runner.executable(args.build)
+    print("| mesh | DoFs | frictionless: iterations, CG, s | Coulomb 0.3: "
+          "iterations, CG, s, stick/slip | ratio |")
+    print("|---|---:|---|---|---:|")
+    cases = [("block.prm", "2D block", level) for level in args.levels2d] + \
+        [("block-3d.prm", "3D block", level) for level in args.levels3d]
+    for example, name, level in cases:
+        base = dict(single_mesh(level))
+        base["Contact/Condition"] = "pointwise"
+        friction = dict(base)
+        friction["Contact/Friction"] = "Coulomb"
+        friction["Contact/Friction coefficient"] = "0.3"
+        results = measure_variants(exe, {"none": base, "Coulomb": friction},
+                                   args.repeat, example)
+        (row_0, t_0, _), (row_1, t_1, _) = results["none"], results["Coulomb"]
+        print(f"| {name}, level {level} | {row_0['dofs']} | "
+              f"{row_0['iterations']}, {row_0['cg_iterations']}, {t_0:.3g} | "
+              f"{row_1['iterations']}, {row_1['cg_iterations']}, {t_1:.3g}, "
+              f"{row_1['stick_nodes']}/{row_1['slip_nodes']} | "
+              f"{t_1 / t_0:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
