@@ -65,6 +65,9 @@ namespace
         return;
     setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite=*/0);
     setenv("OMPI_MCA_pml", "ob1", /*overwrite=*/0);
+    // hwloc's topology discovery in MPI_Init reads the configuration of
+    // every PCI device (10 ms); a single process binds no I/O device
+    setenv("HWLOC_COMPONENTS", "-pci,-linuxio", /*overwrite=*/0);
   }
 } // namespace
 
