@@ -13,7 +13,7 @@ namespace Signorini
   using namespace dealii;
 
   /**
-   * The friction law on the contact part GC (doc/theory.md section 10):
+   * The friction law on the contact part GC (doc/theory.md section 8):
    * none (today's frictionless Signorini problem), Tresca (the tangential
    * reaction bounded by a given threshold s, a traction) or Coulomb (bounded
    * by mu times the normal pressure). On a sliding node the tangential
