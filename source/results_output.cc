@@ -605,13 +605,13 @@ namespace Signorini
     Vector<double> pressure(scalar_dof_handler.n_dofs());
     Vector<double> nodal_pressure(scalar_dof_handler.n_dofs());
     Vector<double> active(scalar_dof_handler.n_dofs());
+    std::map<unsigned int, types::global_dof_index> dof_of_vertex;
+    for (const auto &cell : scalar_dof_handler.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
     {
       const ContactBoundary<dim> &contact_boundary =
         computation.contact_boundary();
-      std::map<unsigned int, types::global_dof_index> dof_of_vertex;
-      for (const auto &cell : scalar_dof_handler.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
       const Vector<double> lambda =
         computation.condition().multiplier(computation.dual());
       const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
@@ -656,10 +656,6 @@ namespace Signorini
         const FrictionState<dim>   &friction = computation.friction();
         const ContactBoundary<dim> &contact_boundary =
           computation.contact_boundary();
-        std::map<unsigned int, types::global_dof_index> dof_of_vertex;
-        for (const auto &cell : scalar_dof_handler.active_cell_iterators())
-          for (const unsigned int v : cell->vertex_indices())
-            dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
         friction_status.reinit(scalar_dof_handler.n_dofs());
         tangential_force.reinit(dof_handler.n_dofs());
         slip.reinit(dof_handler.n_dofs());

@@ -180,44 +180,36 @@ end
     print(f"mu = 0: energies {[r['energy'] for r in zero]}, frictionless "
           f"{[r['energy'] for r in none]}")
 
-    # the Coulomb block on 1 and 2 ranks
+    def on_one_and_two_ranks(name, prm, extra):
+        """The rows of PRM + EXTRA on 1 rank, checked against 2 ranks."""
+        label = name.replace("-", " ")
+        one = rows_of(name, prm, extra)
+        two = rows_of(name + "-np2", prm, extra, 2)
+        problems.extend(f"{label}, 1 vs 2 ranks: {p}" for p in
+                        compare(os.path.join(work, name),
+                                os.path.join(work, name + "-np2")))
+        for a, b in zip(one, two):
+            for key in ["stick_nodes", "slip_nodes"]:
+                if a[key] != b[key]:
+                    problems.append(f"{label}, cycle {a['cycle']}: {key} "
+                                    f"{a[key]} on 1 rank, {b[key]} on 2")
+        print(f"{label}: stick {[r['stick_nodes'] for r in one]}, slip "
+              f"{[r['slip_nodes'] for r in one]}, energy "
+              f"{[r['energy'] for r in one]}")
+        return one
+
+    # the Coulomb block in 2D and 3D on 1 and 2 ranks
     coulomb = pointwise + contact(
         "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n")
-    one = rows_of("block-coulomb", block, coulomb)
-    two = rows_of("block-coulomb-np2", block, coulomb, 2)
-    problems += [f"Coulomb block, 1 vs 2 ranks: {p}" for p in
-                 compare(os.path.join(work, "block-coulomb"),
-                         os.path.join(work, "block-coulomb-np2"))]
-    for a, b in zip(one, two):
-        for key in ["stick_nodes", "slip_nodes"]:
-            if a[key] != b[key]:
-                problems.append(f"Coulomb block, cycle {a['cycle']}: {key} "
-                                f"{a[key]} on 1 rank, {b[key]} on 2")
+    one = on_one_and_two_ranks("block-coulomb", block, coulomb)
     if not any(int(r["stick_nodes"]) > 0 and int(r["slip_nodes"]) > 0
                for r in one):
         problems.append("Coulomb block: no cycle with both sticking and "
                         "sliding nodes")
-    print(f"Coulomb block: stick {[r['stick_nodes'] for r in one]}, slip "
-          f"{[r['slip_nodes'] for r in one]}, energy "
-          f"{[r['energy'] for r in one]}")
-
-    # the 3D Coulomb block on 1 and 2 ranks
     block_3d = os.path.join(source, "prm", "block-3d.prm")
-    coulomb_3d = coulomb.replace("set Number of cycles = 3",
-                                 "set Number of cycles = 1")
-    one = rows_of("block-3d-coulomb", block_3d, coulomb_3d)
-    two = rows_of("block-3d-coulomb-np2", block_3d, coulomb_3d, 2)
-    problems += [f"3D Coulomb block, 1 vs 2 ranks: {p}" for p in
-                 compare(os.path.join(work, "block-3d-coulomb"),
-                         os.path.join(work, "block-3d-coulomb-np2"))]
-    for a, b in zip(one, two):
-        for key in ["stick_nodes", "slip_nodes"]:
-            if a[key] != b[key]:
-                problems.append(f"3D Coulomb block: {key} {a[key]} on 1 "
-                                f"rank, {b[key]} on 2")
-    print(f"3D Coulomb block: stick {[r['stick_nodes'] for r in one]}, slip "
-          f"{[r['slip_nodes'] for r in one]}, energy "
-          f"{[r['energy'] for r in one]}")
+    on_one_and_two_ranks("block-3d-coulomb", block_3d,
+                         coulomb.replace("set Number of cycles = 3",
+                                         "set Number of cycles = 1"))
 
     for p in problems:
         print("  " + p)
