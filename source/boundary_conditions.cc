@@ -102,9 +102,9 @@ namespace Signorini
                                  "/Components: no component <" + c + ">");
               mask[component] = true;
             }
-          part.mask = ComponentMask(mask);
-          part.displacement =
-            parse_function<dim>(prm, dim, "Boundary conditions/" + name);
+          part.mask         = ComponentMask(mask);
+          part.displacement = std::make_unique<LoadPathFunction<dim>>(
+            parse_function<dim>(prm, dim, "Boundary conditions/" + name));
           prm.leave_subsection();
           // The solver would apply both values (the last one wins) and the
           // estimator needs one prescribed value per component: refuse.
@@ -130,15 +130,15 @@ namespace Signorini
           part.ids =
             parse_boundary_ids(prm.get("Boundary ids"),
                                "Boundary conditions/" + name + "/Boundary ids");
-          part.traction =
-            parse_function<dim>(prm, dim, "Boundary conditions/" + name);
+          part.traction = std::make_unique<LoadPathFunction<dim>>(
+            parse_function<dim>(prm, dim, "Boundary conditions/" + name));
           prm.leave_subsection();
           if (!part.ids.empty())
             tractions.emplace_back(std::move(part));
         }
       prm.enter_subsection("Body force");
-      body_force =
-        parse_function<dim>(prm, dim, "Boundary conditions/Body force");
+      body_force = std::make_unique<LoadPathFunction<dim>>(
+        parse_function<dim>(prm, dim, "Boundary conditions/Body force"));
       body_force_zero = true;
       for (const std::string &component :
            Utilities::split_string_list(prm.get("Function expression"), ';'))
@@ -151,6 +151,21 @@ namespace Signorini
       prm.leave_subsection();
     }
     prm.leave_subsection();
+    set_load_step(LoadPath(), 1);
+  }
+
+
+
+  template <int dim>
+  void
+  BoundaryConditions<dim>::set_load_step(const LoadPath    &path,
+                                         const unsigned int step)
+  {
+    for (auto &part : dirichlet)
+      part.displacement->set_step(path, step);
+    for (auto &part : tractions)
+      part.traction->set_step(path, step);
+    body_force->set_step(path, step);
   }
 
 

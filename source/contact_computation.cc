@@ -39,6 +39,7 @@ namespace Signorini
     BoundaryConditions<dim>::declare_parameters(prm);
     ContactBoundary<dim>::declare_parameters(prm);
     FrictionLaw<dim>::declare_parameters(prm);
+    LoadPath::declare_parameters(prm);
     ContactCondition<dim>::registry().declare_parameters(prm);
     ContactSolver<dim>::registry().declare_parameters(prm);
     ElasticitySolver::declare_parameters(prm);
@@ -113,6 +114,10 @@ namespace Signorini
     contact_solver    = ContactSolver<dim>::registry().create(prm);
     elasticity_solver.parse_parameters(prm);
     friction_law_.parse_parameters(prm);
+    load_path_.parse_parameters(prm);
+    // the data of the end of the path unless a step is applied
+    boundary_data.set_load_step(load_path_, load_path_.n_steps());
+    friction_law_.set_time(1.);
     if (friction_law_.enabled())
       {
         if (contact_condition->name() != "pointwise")
@@ -136,8 +141,9 @@ namespace Signorini
 
     // (the coarser meshes would solve with friction too, for a guess of the
     // normal active set only: not worth it yet)
+    // (nor on a load path: its first step is a fraction of the load)
     nested_start = nested && contact_solver->uses_initial_active_set() &&
-                   !friction_law_.enabled();
+                   !friction_law_.enabled() && load_path_.n_steps() == 1;
   }
 
 
@@ -237,6 +243,37 @@ namespace Signorini
     DoFTools::make_hanging_node_constraints(dofs, hanging_node_constraints);
     hanging_node_constraints.close();
 
+    make_constraints();
+
+    rigid_motions.reinit(dofs, dirichlet_constraints, hanging_node_constraints);
+    gamma_c.reinit(mapping_fe,
+                   dofs,
+                   dirichlet_constraints,
+                   hanging_node_constraints);
+    contact_condition->reinit(gamma_c);
+
+    // rows of the owned cells' dofs, sent to their owners
+    DynamicSparsityPattern dsp(relevant_dofs);
+    DoFTools::make_sparsity_pattern(dofs,
+                                    dsp,
+                                    constraints,
+                                    /*keep_constrained_dofs=*/true);
+    SparsityTools::distribute_sparsity_pattern(dsp,
+                                               locally_owned_dofs,
+                                               mpi_communicator,
+                                               relevant_dofs);
+    const IndexSet &owned = locally_owned_dofs;
+    stiffness.reinit(owned, owned, dsp, mpi_communicator);
+    load.reinit(owned, mpi_communicator);
+    solution.reinit(owned, mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::make_constraints()
+  {
     dirichlet_constraints.clear();
     AffineConstraints<double> homogeneous_dirichlet;
     for (const auto &part : boundary_data.dirichlet)
@@ -267,28 +304,30 @@ namespace Signorini
     homogeneous_constraints.merge(hanging_node_constraints);
     homogeneous_constraints.merge(homogeneous_dirichlet);
     homogeneous_constraints.close();
+  }
 
-    rigid_motions.reinit(dofs, dirichlet_constraints, hanging_node_constraints);
-    gamma_c.reinit(mapping_fe,
-                   dofs,
-                   dirichlet_constraints,
-                   hanging_node_constraints);
-    contact_condition->reinit(gamma_c);
 
-    // rows of the owned cells' dofs, sent to their owners
-    DynamicSparsityPattern dsp(relevant_dofs);
-    DoFTools::make_sparsity_pattern(dofs,
-                                    dsp,
-                                    constraints,
-                                    /*keep_constrained_dofs=*/true);
-    SparsityTools::distribute_sparsity_pattern(dsp,
-                                               locally_owned_dofs,
-                                               mpi_communicator,
-                                               relevant_dofs);
-    const IndexSet &owned = locally_owned_dofs;
-    stiffness.reinit(owned, owned, dsp, mpi_communicator);
-    load.reinit(owned, mpi_communicator);
-    solution.reinit(owned, mpi_communicator);
+
+  template <int dim>
+  void
+  ContactComputation<dim>::apply_load_step(const unsigned int step)
+  {
+    boundary_data.set_load_step(load_path_, step);
+    friction_law_.set_time(load_path_.time(step));
+    // (the data of a step may be what is not finite: at the step's time)
+    try
+      {
+        boundary_data.check_finite(mapping_fe, dofs.get_triangulation());
+      }
+    catch (const InputError &error)
+      {
+        std::ostringstream where;
+        where << "Contact/Load steps: at step " << step
+              << " (t = " << load_path_.time(step) << "): " << error.what();
+        throw InputError(where.str());
+      }
+    make_constraints();
+    assemble(/*with_matrix=*/false);
   }
 
 
@@ -296,6 +335,15 @@ namespace Signorini
   template <int dim>
   void
   ContactComputation<dim>::assemble()
+  {
+    assemble(/*with_matrix=*/true);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::assemble(const bool with_matrix)
   {
     TimerOutput::Scope           t(timer, "assembly");
     const QGaussSimplex<dim>     quadrature(3);
@@ -321,44 +369,49 @@ namespace Signorini
     std::vector<Vector<double>> traction_values(face_quadrature.size(),
                                                 Vector<double>(dim));
 
-    stiffness = 0.;
-    load      = 0.;
+    if (with_matrix)
+      stiffness = 0.;
+    load = 0.;
     for (const auto &cell : dofs.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
           continue;
         cell_matrix = 0.;
         cell_rhs    = 0.;
-        // P1: the strains are constant on the cell, and the gradients of
-        // the shape functions (the barycentric coordinates, in deal.II's
-        // vertex order) follow from the vertices. Without FEValues and its
-        // mapping at every quadrature point, the 3D assembly is several
-        // times faster; the matrix is the same to round-off.
-        Tensor<2, dim> jacobian;
-        for (unsigned int k = 0; k < dim; ++k)
-          for (unsigned int d = 0; d < dim; ++d)
-            jacobian[d][k] = cell->vertex(k + 1)[d] - cell->vertex(0)[d];
-        const Tensor<2, dim>                inverse = invert(jacobian);
-        std::array<Tensor<1, dim>, dim + 1> gradients;
-        for (unsigned int k = 0; k < dim; ++k)
+        if (with_matrix)
           {
-            gradients[k + 1] = inverse[k];
-            gradients[0] -= inverse[k];
+            // P1: the strains are constant on the cell, and the gradients of
+            // the shape functions (the barycentric coordinates, in deal.II's
+            // vertex order) follow from the vertices. Without FEValues and its
+            // mapping at every quadrature point, the 3D assembly is several
+            // times faster; the matrix is the same to round-off.
+            Tensor<2, dim> jacobian;
+            for (unsigned int k = 0; k < dim; ++k)
+              for (unsigned int d = 0; d < dim; ++d)
+                jacobian[d][k] = cell->vertex(k + 1)[d] - cell->vertex(0)[d];
+            const Tensor<2, dim>                inverse = invert(jacobian);
+            std::array<Tensor<1, dim>, dim + 1> gradients;
+            for (unsigned int k = 0; k < dim; ++k)
+              {
+                gradients[k + 1] = inverse[k];
+                gradients[0] -= inverse[k];
+              }
+            const double measure =
+              std::abs(determinant(jacobian)) / (dim == 2 ? 2. : 6.);
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              {
+                const auto [component, vertex] =
+                  fe.system_to_component_index(i);
+                eps[i] = 0;
+                for (unsigned int d = 0; d < dim; ++d)
+                  eps[i][component][d] +=
+                    (d == component ? 1. : 0.5) * gradients[vertex][d];
+                sigma[i] = material_law.stress(eps[i]);
+              }
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              for (unsigned int j = 0; j < dofs_per_cell; ++j)
+                cell_matrix(i, j) = (sigma[i] * eps[j]) * measure;
           }
-        const double measure =
-          std::abs(determinant(jacobian)) / (dim == 2 ? 2. : 6.);
-        for (unsigned int i = 0; i < dofs_per_cell; ++i)
-          {
-            const auto [component, vertex] = fe.system_to_component_index(i);
-            eps[i]                         = 0;
-            for (unsigned int d = 0; d < dim; ++d)
-              eps[i][component][d] +=
-                (d == component ? 1. : 0.5) * gradients[vertex][d];
-            sigma[i] = material_law.stress(eps[i]);
-          }
-        for (unsigned int i = 0; i < dofs_per_cell; ++i)
-          for (unsigned int j = 0; j < dofs_per_cell; ++j)
-            cell_matrix(i, j) = (sigma[i] * eps[j]) * measure;
         if (!boundary_data.body_force_zero)
           {
             fe_values.reinit(cell);
@@ -390,10 +443,12 @@ namespace Signorini
                       }
                 }
         cell->get_dof_indices(dof_indices);
-        stiffness.add(dof_indices, cell_matrix);
+        if (with_matrix)
+          stiffness.add(dof_indices, cell_matrix);
         load.add(dof_indices, cell_rhs);
       }
-    stiffness.compress(VectorOperation::add);
+    if (with_matrix)
+      stiffness.compress(VectorOperation::add);
     load.compress(VectorOperation::add);
 
     // Finite data can still overflow in the products of the solve (|F|^2,
@@ -465,6 +520,56 @@ namespace Signorini
     }
     setup_timer.stop();
 
+    const unsigned int n_steps = load_path_.n_steps();
+    if (n_steps == 1)
+      solve_step(from_state ? initial_active_set_guess() : std::vector<bool>(),
+                 nullptr);
+    else
+      {
+        // each step from the state of the one before; the summary counts
+        // the whole path
+        typename ContactSolver<dim>::Report path;
+        double                              path_seconds = 0.;
+        FrictionState<dim>                  previous;
+        for (unsigned int step = 1; step <= n_steps; ++step)
+          {
+            apply_load_step(step);
+            // (step 1 starts cold: a previous mesh's state is that of the
+            // end of the path)
+            solve_step(step > 1 ? active_rows : std::vector<bool>(),
+                       step > 1 && friction_law_.enabled() ? &previous :
+                                                             nullptr);
+            path.iterations += last_summary.report.iterations;
+            path.linear_solves += last_summary.report.linear_solves;
+            path.linear_iterations += last_summary.report.linear_iterations;
+            path_seconds += last_summary.solve_seconds;
+            if (load_step_observer)
+              load_step_observer(step);
+            if (!last_solve_converged)
+              break;
+            previous = friction_state;
+          }
+        path.converged             = last_summary.report.converged;
+        path.residual              = last_summary.report.residual;
+        last_summary.report        = path;
+        last_summary.solve_seconds = path_seconds;
+      }
+    last_summary.setup_seconds = setup_timer.wall_time();
+    last_summary.solve_seconds += last_summary.nested.seconds;
+    // the estimate that follows needs the memory more than the rare solve
+    // after it (the pointwise condition's admissible displacement), which
+    // builds a preconditioner again
+    elasticity_solver.release_preconditioner();
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::solve_step(
+    const std::vector<bool>  &guess,
+    const FrictionState<dim> *previous_friction)
+  {
     const DiscreteContactProblem<dim> problem = contact_problem();
     problem.check_rigid_motions();
     if (friction_law_.enabled() && problem.n_rigid_motions() > 0)
@@ -473,13 +578,16 @@ namespace Signorini
                        "alone is not implemented yet");
     Timer solve_timer;
     {
-      TimerOutput::Scope      t(timer, "contact solve");
-      const std::vector<bool> guess =
-        from_state ? initial_active_set_guess() : std::vector<bool>();
+      TimerOutput::Scope t(timer, "contact solve");
       if (friction_law_.enabled())
         last_summary.report =
           FrictionalActiveSetSolver<dim>(friction_law_, friction_max_iterations)
-            .solve(problem, solution, dual_solution, friction_state, guess);
+            .solve(problem,
+                   solution,
+                   dual_solution,
+                   friction_state,
+                   guess,
+                   previous_friction);
       else
         last_summary.report =
           contact_solver->solve(problem, solution, dual_solution, guess);
@@ -541,14 +649,8 @@ namespace Signorini
                      max_norm(dual_solution),
                      last_summary.checks);
     last_summary.energy        = problem.energy(solution);
-    last_summary.setup_seconds = setup_timer.wall_time();
-    last_summary.solve_seconds =
-      solve_timer.wall_time() + last_summary.nested.seconds;
+    last_summary.solve_seconds = solve_timer.wall_time();
     judge_solution();
-    // the estimate that follows needs the memory more than the rare solve
-    // after it (the pointwise condition's admissible displacement), which
-    // builds a preconditioner again
-    elasticity_solver.release_preconditioner();
   }
 
 
@@ -956,6 +1058,25 @@ namespace Signorini
   ContactComputation<dim>::friction_law() const
   {
     return friction_law_;
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::set_load_step_observer(
+    std::function<void(unsigned int)> observer)
+  {
+    load_step_observer = std::move(observer);
+  }
+
+
+
+  template <int dim>
+  const LoadPath &
+  ContactComputation<dim>::load_path() const
+  {
+    return load_path_;
   }
 
 

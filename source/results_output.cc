@@ -46,7 +46,7 @@ namespace Signorini
      */
     template <int dim>
     void
-    refuse_beyond_single_precision(const unsigned int       cycle,
+    refuse_beyond_single_precision(const std::string       &what,
                                    const NamedDataOut<dim> &data_out,
                                    const MPI_Comm           communicator)
     {
@@ -71,11 +71,10 @@ namespace Signorini
         "false";
       const std::vector<std::string> names = data_out.get_dataset_names();
       if (coordinates)
-        throw InputError("cycle " + std::to_string(cycle) +
-                         ": mesh coordinates" + units);
+        throw InputError(what + ": mesh coordinates" + units);
       if (first_overflow != numbers::invalid_unsigned_int)
         throw InputError(
-          "cycle " + std::to_string(cycle) + ": the field " +
+          what + ": the field " +
           (first_overflow < names.size() ? names[first_overflow] : "?") +
           " reaches values" + units);
     }
@@ -289,48 +288,119 @@ namespace Signorini
 
 
 
+  namespace
+  {
+    /// The contact solve's columns of a statistics row.
+    template <int dim>
+    void
+    add_contact_columns(CsvTable                      &table,
+                        const ContactComputation<dim> &computation)
+    {
+      const auto &summary = computation.summary();
+      const auto &report  = summary.report;
+      table.add_value("contact_nodes", computation.condition().n_constraints());
+      table.add_value("active_nodes", summary.n_active);
+      table.add_value("condition", computation.condition().name());
+      table.add_value("solver", computation.solver().name());
+      table.add_value("linear_solver", computation.linear_solver().method());
+      table.add_value("iterations", report.iterations);
+      table.add_value("linear_solves", report.linear_solves);
+      table.add_value("cg_iterations", report.linear_iterations);
+      table.add_value("nested_meshes", summary.nested.meshes);
+      table.add_value("nested_iterations", summary.nested.iterations);
+      table.add_value("converged", computation.converged() ? 1u : 0u);
+      table.add_value("kkt_residual", report.residual);
+      table.add_value("energy", summary.energy);
+      table.add_value("contact_force", summary.contact_force);
+      table.add_value("setup_seconds", summary.setup_seconds);
+      table.add_value("solve_seconds", summary.solve_seconds);
+      table.add_value("feasibility", summary.checks.feasibility);
+      table.add_value("multiplier_sign", summary.checks.multiplier_sign);
+      table.add_value("complementarity", summary.checks.complementarity);
+      table.add_value("residual", summary.checks.residual);
+      table.add_value("resultant", summary.checks.resultant);
+      table.add_value("contact_cells",
+                      computation.contact_boundary().n_contact_cells());
+      if (computation.friction_law().enabled())
+        {
+          using Status      = typename FrictionState<dim>::Status;
+          const auto &state = computation.friction();
+          table.add_value("stick_nodes", state.count(Status::stick));
+          table.add_value("slip_nodes", state.count(Status::slip));
+          table.add_value("tangential_force", state.total_force().norm());
+          table.add_value("friction_bound", summary.checks.friction_bound);
+          table.add_value("stick", summary.checks.stick);
+          table.add_value("slip", summary.checks.slip);
+        }
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   ResultsOutput<dim>::contact_solve(const ContactComputation<dim> &computation)
   {
     print_contact_solve(computation);
-    const auto &summary = computation.summary();
-    const auto &report  = summary.report;
-    CsvTable   &table   = statistics_table;
-    table.add_value("contact_nodes", computation.condition().n_constraints());
-    table.add_value("active_nodes", summary.n_active);
-    table.add_value("condition", computation.condition().name());
-    table.add_value("solver", computation.solver().name());
-    table.add_value("linear_solver", computation.linear_solver().method());
-    table.add_value("iterations", report.iterations);
-    table.add_value("linear_solves", report.linear_solves);
-    table.add_value("cg_iterations", report.linear_iterations);
-    table.add_value("nested_meshes", summary.nested.meshes);
-    table.add_value("nested_iterations", summary.nested.iterations);
-    table.add_value("converged", computation.converged() ? 1u : 0u);
-    table.add_value("kkt_residual", report.residual);
-    table.add_value("energy", summary.energy);
-    table.add_value("contact_force", summary.contact_force);
-    table.add_value("setup_seconds", summary.setup_seconds);
-    table.add_value("solve_seconds", summary.solve_seconds);
-    table.add_value("feasibility", summary.checks.feasibility);
-    table.add_value("multiplier_sign", summary.checks.multiplier_sign);
-    table.add_value("complementarity", summary.checks.complementarity);
-    table.add_value("residual", summary.checks.residual);
-    table.add_value("resultant", summary.checks.resultant);
-    table.add_value("contact_cells",
-                    computation.contact_boundary().n_contact_cells());
+    add_contact_columns(statistics_table, computation);
+  }
+
+
+
+  template <int dim>
+  void
+  ResultsOutput<dim>::load_step(const unsigned int             cycle,
+                                const unsigned int             step,
+                                const ContactComputation<dim> &computation)
+  {
+    const LoadPath &path    = computation.load_path();
+    const auto     &summary = computation.summary();
+    if (step == 1)
+      step_vtu_files.clear();
+    pcout << "   load step " << step << " of " << path.n_steps()
+          << " (t = " << path.time(step) << ", factor " << path.factor(step)
+          << "): " << summary.n_active << " active nodes";
     if (computation.friction_law().enabled())
       {
         using Status      = typename FrictionState<dim>::Status;
         const auto &state = computation.friction();
-        table.add_value("stick_nodes", state.count(Status::stick));
-        table.add_value("slip_nodes", state.count(Status::slip));
-        table.add_value("tangential_force", state.total_force().norm());
-        table.add_value("friction_bound", summary.checks.friction_bound);
-        table.add_value("stick", summary.checks.stick);
-        table.add_value("slip", summary.checks.slip);
+        pcout << ", " << state.count(Status::stick) << " stick, "
+              << state.count(Status::slip) << " slip, tangential force "
+              << state.total_force();
       }
+    pcout << ", " << summary.report.iterations << " iterations"
+          << (computation.converged() ? "" : ": " + computation.failure())
+          << std::endl;
+
+    steps_table.add_value("cycle", cycle);
+    steps_table.add_value("step", step);
+    steps_table.add_value("time", path.time(step));
+    steps_table.add_value("factor", path.factor(step));
+    add_contact_columns(steps_table, computation);
+    steps_table.end_row();
+    if (pcout.is_active())
+      output_files.write("load-steps.csv",
+                         [&](std::ostream &out) { steps_table.write(out); });
+
+    const std::string label =
+      Utilities::int_to_string(cycle, 2) + "-" +
+      Utilities::int_to_string(step, Utilities::needed_digits(path.n_steps()));
+    write_contact_table("contact-" + label + ".csv", computation);
+    if (!with_vtu)
+      return;
+    step_vtu_files.emplace_back(path.time(step),
+                                write_vtu("solution-" + label,
+                                          "cycle " + std::to_string(cycle) +
+                                            ", load step " +
+                                            std::to_string(step),
+                                          computation,
+                                          nullptr,
+                                          nullptr));
+    if (pcout.is_active())
+      output_files.write("steps-" + Utilities::int_to_string(cycle, 2) + ".pvd",
+                         [&](std::ostream &out) {
+                           DataOutBase::write_pvd_record(out, step_vtu_files);
+                         });
   }
 
 
@@ -485,7 +555,7 @@ namespace Signorini
   template <int dim>
   void
   ResultsOutput<dim>::write_contact_table(
-    const unsigned int             cycle,
+    const std::string             &file_name,
     const ContactComputation<dim> &computation)
   {
     // One row per node of GC, sorted by position.
@@ -524,47 +594,45 @@ namespace Signorini
     const bool        with_friction    = computation.friction_law().enabled();
     const char *const status_names[]   = {"separated", "stick", "slip"};
 
-    output_files.write(
-      "contact-" + Utilities::int_to_string(cycle, 2) + ".csv",
-      [&](std::ostream &out) {
-        const char *coordinates[] = {"x", "y", "z"};
-        for (unsigned int d = 0; d < dim; ++d)
-          out << coordinates[d] << ',';
-        out << "multiplier_node,normal_displacement,gap,Lambda,"
-               "nodal_force,active,nodal_pressure";
-        if (with_friction)
-          {
-            out << ",friction_status";
-            for (unsigned int d = 0; d < dim; ++d)
-              out << ",tangential_force_" << coordinates[d];
-            for (unsigned int d = 0; d < dim; ++d)
-              out << ",slip_" << coordinates[d];
-          }
-        out << '\n' << std::setprecision(12);
-        for (const unsigned int k : order)
-          {
-            const auto &node = contact_boundary.node(k);
-            const int   i    = row_of_node[k];
-            for (unsigned int d = 0; d < dim; ++d)
-              out << node.position[d] << ',';
-            out << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
-                << contact_boundary.nodal_gap()[k] << ','
-                << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
-                << ((i >= 0 && active[i]) ? 1 : 0) << ',' << pressures[k];
-            if (with_friction)
-              {
-                out << ','
-                    << (i >= 0 ?
-                          status_names[static_cast<int>(friction.status[i])] :
-                          "held");
-                for (unsigned int d = 0; d < dim; ++d)
-                  out << ',' << (i >= 0 ? friction.force[i][d] : 0.);
-                for (unsigned int d = 0; d < dim; ++d)
-                  out << ',' << (i >= 0 ? friction.slip[i][d] : 0.);
-              }
-            out << '\n';
-          }
-      });
+    output_files.write(file_name, [&](std::ostream &out) {
+      const char *coordinates[] = {"x", "y", "z"};
+      for (unsigned int d = 0; d < dim; ++d)
+        out << coordinates[d] << ',';
+      out << "multiplier_node,normal_displacement,gap,Lambda,"
+             "nodal_force,active,nodal_pressure";
+      if (with_friction)
+        {
+          out << ",friction_status";
+          for (unsigned int d = 0; d < dim; ++d)
+            out << ",tangential_force_" << coordinates[d];
+          for (unsigned int d = 0; d < dim; ++d)
+            out << ",slip_" << coordinates[d];
+        }
+      out << '\n' << std::setprecision(12);
+      for (const unsigned int k : order)
+        {
+          const auto &node = contact_boundary.node(k);
+          const int   i    = row_of_node[k];
+          for (unsigned int d = 0; d < dim; ++d)
+            out << node.position[d] << ',';
+          out << (i >= 0 ? 1 : 0) << ',' << q_n[k] << ','
+              << contact_boundary.nodal_gap()[k] << ','
+              << (i >= 0 ? lambda[i] : 0.) << ',' << forces[k] << ','
+              << ((i >= 0 && active[i]) ? 1 : 0) << ',' << pressures[k];
+          if (with_friction)
+            {
+              out << ','
+                  << (i >= 0 ?
+                        status_names[static_cast<int>(friction.status[i])] :
+                        "held");
+              for (unsigned int d = 0; d < dim; ++d)
+                out << ',' << (i >= 0 ? friction.force[i][d] : 0.);
+              for (unsigned int d = 0; d < dim; ++d)
+                out << ',' << (i >= 0 ? friction.slip[i][d] : 0.);
+            }
+          out << '\n';
+        }
+    });
   }
 
 
@@ -575,22 +643,34 @@ namespace Signorini
                             const ContactComputation<dim> &computation,
                             const Vector<double>          *eps_E)
   {
-    write_contact_table(cycle, computation);
+    const std::string label = Utilities::int_to_string(cycle, 2);
+    write_contact_table("contact-" + label + ".csv", computation);
     statistics_table.end_row();
     write_statistics();
     if (with_vtu)
-      write_vtu(cycle,
-                computation,
-                eps_E,
-                local_exact_error.size() > 0 ? &local_exact_error : nullptr);
+      {
+        vtu_files.emplace_back(cycle,
+                               write_vtu("solution-" + label,
+                                         "cycle " + std::to_string(cycle),
+                                         computation,
+                                         eps_E,
+                                         local_exact_error.size() > 0 ?
+                                           &local_exact_error :
+                                           nullptr));
+        if (pcout.is_active())
+          output_files.write("solution.pvd", [&](std::ostream &out) {
+            DataOutBase::write_pvd_record(out, vtu_files);
+          });
+      }
     local_exact_error.reinit(0);
   }
 
 
 
   template <int dim>
-  void
-  ResultsOutput<dim>::write_vtu(const unsigned int             cycle,
+  std::string
+  ResultsOutput<dim>::write_vtu(const std::string             &base,
+                                const std::string             &what,
                                 const ContactComputation<dim> &computation,
                                 const Vector<double>          *eps_E,
                                 const Vector<double>          *eps_ex_E)
@@ -714,14 +794,13 @@ namespace Signorini
           }
       }
     data_out.build_patches(computation.mapping());
-    refuse_beyond_single_precision(cycle, data_out, mpi_communicator);
+    refuse_beyond_single_precision(what, data_out, mpi_communicator);
     // zlib's fastest level: deal.II's default, its best, takes 3 times as
     // long for files about 10 % smaller (bench/small_runs)
     DataOutBase::VtkFlags vtk_flags;
     vtk_flags.compression_level = DataOutBase::VtkFlags::best_speed;
     data_out.set_flags(vtk_flags);
     // one file serially; with N ranks a piece per rank and a .pvtu record
-    const std::string  base = "solution-" + Utilities::int_to_string(cycle, 2);
     const unsigned int n_ranks =
       Utilities::MPI::n_mpi_processes(mpi_communicator);
     std::string name = base + ".vtu";
@@ -752,11 +831,7 @@ namespace Signorini
     else
       output_files.write(name,
                          [&](std::ostream &out) { data_out.write_vtu(out); });
-    vtu_files.emplace_back(cycle, name);
-    if (root)
-      output_files.write("solution.pvd", [&](std::ostream &out) {
-        DataOutBase::write_pvd_record(out, vtu_files);
-      });
+    return name;
   }
 
   template class ResultsOutput<2>;

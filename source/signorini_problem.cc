@@ -340,8 +340,13 @@ namespace Signorini
 
   template <int dim>
   void
-  SignoriniProblem<dim>::solve_contact()
+  SignoriniProblem<dim>::solve_contact(const unsigned int cycle)
   {
+    // (the steps of a load path write their outputs as they are solved)
+    computation.set_load_step_observer([this, cycle](const unsigned int step) {
+      TimerOutput::Scope t(timer, "output");
+      results.load_step(cycle, step, computation);
+    });
     computation.solve();
     results.contact_solve(computation);
   }
@@ -553,7 +558,7 @@ namespace Signorini
           adaptive_mesh.release_hierarchy();
         setup_system(cycle);
         assemble_system();
-        solve_contact();
+        solve_contact(cycle);
         estimate_error();
         compare_with_known_solutions();
         output_results(cycle);

@@ -11,6 +11,8 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <signorini/load_path.h>
+
 #include <memory>
 #include <set>
 #include <string>
@@ -43,18 +45,18 @@ namespace Signorini
     {
       /// The parameter subsection, e.g. "Boundary conditions/Dirichlet 2",
       /// for messages.
-      std::string                                     name;
-      std::set<types::boundary_id>                    ids;
-      ComponentMask                                   mask;
-      std::unique_ptr<Functions::ParsedFunction<dim>> displacement;
+      std::string                            name;
+      std::set<types::boundary_id>           ids;
+      ComponentMask                          mask;
+      std::unique_ptr<LoadPathFunction<dim>> displacement;
     };
 
     struct TractionPart
     {
       /// The parameter subsection, e.g. "Boundary conditions/Traction 1".
-      std::string                                     name;
-      std::set<types::boundary_id>                    ids;
-      std::unique_ptr<Functions::ParsedFunction<dim>> traction;
+      std::string                            name;
+      std::set<types::boundary_id>           ids;
+      std::unique_ptr<LoadPathFunction<dim>> traction;
     };
 
     /// The largest magnitudes of the data where they are used.
@@ -72,6 +74,11 @@ namespace Signorini
     /// on the same boundary id are an InputError.
     void
     parse_parameters(ParameterHandler &prm);
+
+    /// Every datum at step @p step of @p path (after parsing: the data of
+    /// step 1 of 1, the static problem).
+    void
+    set_load_step(const LoadPath &path, const unsigned int step);
 
     /**
      * Throw an InputError naming the parameter and the point unless every
@@ -108,9 +115,9 @@ namespace Signorini
                     const std::vector<Point<dim>> &points,
                     std::vector<Vector<double>>   &values) const;
 
-    std::vector<DirichletPart>                      dirichlet;
-    std::vector<TractionPart>                       tractions;
-    std::unique_ptr<Functions::ParsedFunction<dim>> body_force;
+    std::vector<DirichletPart>             dirichlet;
+    std::vector<TractionPart>              tractions;
+    std::unique_ptr<LoadPathFunction<dim>> body_force;
     /// Whether every component of the body force is the literal constant 0
     /// (the element equilibration then skips its evaluation per cell).
     bool body_force_zero = false;

@@ -24,9 +24,11 @@
 #include <signorini/contact/solver.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/linear_solver.h>
+#include <signorini/load_path.h>
 #include <signorini/material.h>
 #include <signorini/mesh_input.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -109,9 +111,23 @@ namespace Signorini
     /// Solve the contact problem, starting the active set from the state of
     /// the previous solve (or from set_initial_contact_state()) if the
     /// option is on, and check the solution: converged() says whether both
-    /// the solver and the checks accept it.
+    /// the solver and the checks accept it. On a load path of several steps
+    /// (Contact/Load steps) each step is solved from the one before and
+    /// checked, the observer of set_load_step_observer() is called after
+    /// it, and the path stops at the first step that fails; summary() is
+    /// then that of the last step solved, with the iterations and times of
+    /// the whole path.
     void
     solve();
+
+    /// Call @p observer(step) after each step of a load path of several
+    /// steps (summary(), displacement() and friction() are the step's).
+    void
+    set_load_step_observer(std::function<void(unsigned int)> observer);
+
+    /// Contact/Load steps and Load factor.
+    const LoadPath &
+    load_path() const;
 
     /// Start the next solve from @p state (a computation on another mesh).
     void
@@ -231,6 +247,28 @@ namespace Signorini
     void
     check_boundary_ids(const Triangulation<dim> &mesh) const;
 
+    /// The Dirichlet constraints of the data (their current load step),
+    /// merged with the hanging nodes' (with and without the values).
+    void
+    make_constraints();
+
+    /// The data of step @p step of the load path: constraints and load
+    /// (the stiffness does not change).
+    void
+    apply_load_step(const unsigned int step);
+
+    /// F, and K too if @p with_matrix.
+    void
+    assemble(const bool with_matrix);
+
+    /// Solve the contact problem of the current data from solution and the
+    /// active set @p guess (may be empty), check and judge the solution;
+    /// with friction, sliding against @p previous_friction (the state of
+    /// the previous load step; null: the unloaded state).
+    void
+    solve_step(const std::vector<bool>  &guess,
+               const FrictionState<dim> *previous_friction);
+
     /// Decide converged() from the solver's report and the checks.
     void
     judge_solution();
@@ -253,6 +291,8 @@ namespace Signorini
     std::unique_ptr<ContactCondition<dim>> contact_condition;
     std::unique_ptr<ContactSolver<dim>>    contact_solver;
     FrictionLaw<dim>                       friction_law_;
+    LoadPath                               load_path_;
+    std::function<void(unsigned int)>      load_step_observer;
     /// Contact/Active set/Maximum iterations (for the frictional method).
     unsigned int       friction_max_iterations = 100;
     FrictionState<dim> friction_state;

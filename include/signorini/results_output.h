@@ -30,7 +30,9 @@ namespace Signorini
    * table (one row per computation, statistics.csv), the contact table of
    * every computation (contact-CC.csv) and the ParaView files
    * (solution-CC.vtu, or a piece per rank and a .pvtu record, and
-   * solution.pvd), all in the output directory. Each step of a computation
+   * solution.pvd), all in the output directory; on a load path of several
+   * steps also the same per step (load-steps.csv, contact-CC-SS.csv,
+   * solution-CC-SS.vtu and steps-CC.pvd). Each step of a computation
    * reports through one member, which prints its screen lines and adds its
    * statistics columns; write() closes the row and writes the files.
    *
@@ -111,6 +113,15 @@ namespace Signorini
     void
     contact_solve(const ContactComputation<dim> &computation);
 
+    /// Step @p step of the load path of computation @p cycle (Contact/Load
+    /// steps > 1): a screen line, a row of load-steps.csv, contact-CC-SS.csv
+    /// and, if enabled, solution-CC-SS.vtu in steps-CC.pvd (with the time t
+    /// of the step).
+    void
+    load_step(const unsigned int             cycle,
+              const unsigned int             step,
+              const ContactComputation<dim> &computation);
+
     /// The error in constitutive relation of the computation.
     void
     error_estimate(
@@ -163,11 +174,14 @@ namespace Signorini
     write_statistics();
 
     void
-    write_contact_table(const unsigned int             cycle,
+    write_contact_table(const std::string             &file_name,
                         const ContactComputation<dim> &computation);
 
-    void
-    write_vtu(const unsigned int             cycle,
+    /// The VTU @p base.vtu (or pieces and @p base.pvtu) of @p computation;
+    /// returns its name. @p what names it in errors.
+    std::string
+    write_vtu(const std::string             &base,
+              const std::string             &what,
               const ContactComputation<dim> &computation,
               const Vector<double>          *eps_E,
               const Vector<double>          *eps_ex_E);
@@ -184,6 +198,10 @@ namespace Signorini
     Vector<double> local_exact_error;
     /// (cycle, file) of the VTU files written, for solution.pvd
     std::vector<std::pair<double, std::string>> vtu_files;
+    /// One row per load step (Contact/Load steps > 1): load-steps.csv
+    CsvTable steps_table;
+    /// (t, file) of the current cycle's load steps, for steps-CC.pvd
+    std::vector<std::pair<double, std::string>> step_vtu_files;
   };
 } // namespace Signorini
 

@@ -113,7 +113,7 @@ namespace Signorini
 
     /// Solve the contact problem of the current mesh and check the solution.
     void
-    solve_contact();
+    solve_contact(const unsigned int cycle);
 
     /// The error in constitutive relation of the solution (if enabled and
     /// the solve succeeded).

@@ -102,6 +102,15 @@ namespace Signorini
 
 
 
+  template <int dim>
+  void
+  FrictionLaw<dim>::set_time(const double t)
+  {
+    threshold_function->set_time(t);
+  }
+
+
+
   template class FrictionLaw<2>;
   template class FrictionLaw<3>;
 } // namespace Signorini

@@ -131,7 +131,8 @@ namespace Signorini
     LA::Vector                        &u,
     Vector<double>                    &y,
     FrictionState<dim>                &state,
-    const std::vector<bool>           &initial_active) const
+    const std::vector<bool>           &initial_active,
+    const FrictionState<dim>          *previous) const
   {
     using Status                         = typename FrictionState<dim>::Status;
     const ContactBoundary<dim> &boundary = problem.boundary();
@@ -158,14 +159,26 @@ namespace Signorini
     std::vector<bool>                   active = (initial_active.size() == m) ?
                                                    initial_active :
                                                    std::vector<bool>(m, false);
-    // every node in contact starts sticking, with no slip force
+    // every node in contact starts sticking, with no slip force (on a load
+    // step, the elastic predictor: sticking where the previous step left
+    // it; starting a node from its previous slip force, that force acts on
+    // a body whose load changed, which made the unloading of a slipping
+    // strip alternate between slips either way)
     std::vector<bool>           stick(m, true);
     std::vector<Tensor<1, dim>> slip_force(m);
     // and the spring k_k across the slip direction n_k = slip_force / s_k
     std::vector<double> spring(m, 0.);
+    // where the node slides from
+    std::vector<Tensor<1, dim>> origin(m);
+    if (previous != nullptr)
+      {
+        AssertDimension(previous->displacement.size(), m);
+        origin = previous->displacement;
+      }
     state.status.assign(m, Status::separated);
     state.force.assign(m, Tensor<1, dim>());
     state.slip.assign(m, Tensor<1, dim>());
+    state.displacement.assign(m, Tensor<1, dim>());
     state.bound.assign(m, 0.);
     Progress progress("frictional active set", u.get_mpi_communicator());
     double   previous_change = std::numeric_limits<double>::infinity();
@@ -174,7 +187,7 @@ namespace Signorini
       {
         progress.report(
           [&]() { return "iteration " + std::to_string(report.iterations); });
-        std::vector<types::global_dof_index>                    fixed;
+        std::vector<std::pair<types::global_dof_index, double>> fixed;
         std::vector<std::pair<types::global_dof_index, double>> forces;
         std::vector<
           std::tuple<types::global_dof_index, types::global_dof_index, double>>
@@ -186,12 +199,14 @@ namespace Signorini
                 {
                   if (stick[i])
                     {
-                      fixed.push_back(dofs[dim * i + a]);
+                      fixed.emplace_back(dofs[dim * i + a], origin[i][a]);
                       continue;
                     }
-                  forces.emplace_back(dofs[dim * i + a], slip_force[i][a]);
-                  // k (I - n n^T) on the tangential dofs (zero in 2D)
-                  const double norm_squared = slip_force[i].norm_square();
+                  // k (I - n n^T) on the slip t - t_origin of the
+                  // tangential dofs (zero in 2D): in K, and its part in
+                  // t_origin with the force
+                  double     force        = slip_force[i][a];
+                  const auto norm_squared = slip_force[i].norm_square();
                   for (unsigned int b = 0; b < dim; ++b)
                     if (sliding[i][b] && spring[i] > 0. && norm_squared > 0.)
                       {
@@ -203,7 +218,9 @@ namespace Signorini
                           springs.emplace_back(dofs[dim * i + a],
                                                dofs[dim * i + b],
                                                value);
+                        force += value * origin[i][b];
                       }
+                  forces.emplace_back(dofs[dim * i + a], force);
                 }
         report.linear_iterations +=
           problem.solve_with_friction(active, fixed, forces, springs, u);
@@ -233,21 +250,23 @@ namespace Signorini
           {
             next_active[i] =
               active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
-            Tensor<1, dim> force, slip;
+            Tensor<1, dim> force, tangential;
             for (unsigned int c = 0; c < dim; ++c)
               if (sliding[i][c])
                 {
-                  force[c] = -residual[dim * i + c];
-                  slip[c]  = displacement[dim * i + c];
+                  force[c]      = -residual[dim * i + c];
+                  tangential[c] = displacement[dim * i + c];
                 }
-            const double s  = bound(i);
-            largest_bound   = std::max(largest_bound, s);
-            state.status[i] = !active[i] ?
-                                Status::separated :
-                                (stick[i] ? Status::stick : Status::slip);
-            state.force[i]  = active[i] ? force : Tensor<1, dim>();
-            state.slip[i]   = slip;
-            state.bound[i]  = s;
+            const Tensor<1, dim> slip = tangential - origin[i];
+            const double         s    = bound(i);
+            largest_bound             = std::max(largest_bound, s);
+            state.status[i]           = !active[i] ?
+                                          Status::separated :
+                                          (stick[i] ? Status::stick : Status::slip);
+            state.force[i]            = active[i] ? force : Tensor<1, dim>();
+            state.slip[i]             = slip;
+            state.displacement[i]     = tangential;
+            state.bound[i]            = s;
             if (!next_active[i] || !frictional[i])
               continue;
             double       c_k       = 0.;

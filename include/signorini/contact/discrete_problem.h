@@ -110,15 +110,16 @@ namespace Signorini
 
     /**
      * The same with friction (FrictionalActiveSetSolver): besides (B u)_A =
-     * b_A, the displacement dofs @p fixed_dofs are zero (the tangential
-     * components of the sticking nodes), and the nodal forces @p forces
+     * b_A, the displacement dofs of @p fixed_dofs (dof, value) have their
+     * values (the tangential components of the sticking nodes: where the
+     * previous load step left them), and the nodal forces @p forces
      * (dof, value) act with the load (the friction forces of the sliding
      * nodes), and the @p springs (ElasticitySolver::solve()) add to K.
      */
     unsigned int
     solve_with_friction(
       const std::vector<bool>                                       &active,
-      const std::vector<types::global_dof_index>                    &fixed_dofs,
+      const std::vector<std::pair<types::global_dof_index, double>> &fixed_dofs,
       const std::vector<std::pair<types::global_dof_index, double>> &forces,
       const std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>

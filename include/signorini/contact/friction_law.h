@@ -59,6 +59,11 @@ namespace Signorini
     const Function<dim> &
     threshold() const;
 
+    /// The time of the load path at which threshold() is evaluated (its
+    /// variable t; not scaled by the Load factor: it is not a load).
+    void
+    set_time(const double t);
+
   private:
     Type                           law = Type::none;
     double                         mu  = 0.;

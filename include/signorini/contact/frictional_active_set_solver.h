@@ -27,9 +27,12 @@ namespace Signorini
     std::vector<Status> status;
     /// The tangential nodal force the foundation exerts on the body.
     std::vector<Tensor<1, dim>> force;
-    /// The tangential displacement (the slip: the static problem starts
+    /// The slip: the tangential displacement since the previous load step
+    /// (the whole tangential displacement in a static problem, which starts
     /// from the unloaded state).
     std::vector<Tensor<1, dim>> slip;
+    /// The tangential displacement.
+    std::vector<Tensor<1, dim>> displacement;
     /// The bound of |force|: mu times the normal force (Coulomb), or the
     /// threshold times the node's area (Tresca).
     std::vector<double> bound;
@@ -52,17 +55,17 @@ namespace Signorini
    *   f_k = P_s(xi_k),  xi_k = f_k - c_k t_k
    * (f_k the tangential force on node k, t_k its tangential displacement,
    * P_s the projection onto the disc |f| <= s_k, c_k > 0 any scale: here
-   * K_ii of its tangential dofs). A node in contact sticks (t_k = 0 is
-   * imposed) when |xi_k| <= s_k; otherwise it slides, and the semismooth
-   * Newton step linearises s xi / |xi|: the prescribed force s_k n_k along
-   * n_k = xi_k / |xi_k|, and across n_k a spring s_k c_k / (|xi_k| - s_k) on
-   * t_k (none in 2D, where n_k is a sign). A node entering contact starts
-   * sticking. Each step is one symmetric positive definite elasticity solve
-   * (stick: constraints, slip: nodal forces and springs). The Coulomb bound
-   * s_k = mu y_k is that of the previous step; the method stops when the
-   * sets repeat and the slip forces have converged to round-off (they
-   * change by at most 1e-14 of the problem's forces, or stop shrinking
-   * below 1e-8 of them: the linear solver's tolerance).
+   * K_ii of its tangential dofs; t_k the slip since the previous load step).
+   * A node in contact sticks (t_k = 0 is imposed) when |xi_k| <= s_k; otherwise
+   * it slides, and the semismooth Newton step linearises s xi / |xi|: the
+   * prescribed force s_k n_k along n_k = xi_k / |xi_k|, and across n_k a spring
+   * s_k c_k / (|xi_k| - s_k) on t_k (none in 2D, where n_k is a sign). A node
+   * entering contact starts sticking. Each step is one symmetric positive
+   * definite elasticity solve (stick: constraints, slip: nodal forces and
+   * springs). The Coulomb bound s_k = mu y_k is that of the previous step; the
+   * method stops when the sets repeat and the slip forces have converged to
+   * round-off (they change by at most 1e-14 of the problem's forces, or stop
+   * shrinking below 1e-8 of them: the linear solver's tolerance).
    */
   template <int dim>
   class FrictionalActiveSetSolver
@@ -74,14 +77,18 @@ namespace Signorini
     /**
      * Solve @p problem from @p u and the normal active set @p
      * initial_active (may be empty); @p y the normal dual variable, @p
-     * state the friction.
+     * state the friction. With @p previous (the state of the previous load
+     * step on the same mesh) a node slides against where that step left
+     * it, and the stick and slip sets start from its own; without, against
+     * the unloaded state.
      */
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
           LA::Vector                        &u,
           Vector<double>                    &y,
           FrictionState<dim>                &state,
-          const std::vector<bool>           &initial_active = {}) const;
+          const std::vector<bool>           &initial_active = {},
+          const FrictionState<dim>          *previous       = nullptr) const;
 
   private:
     const FrictionLaw<dim> &law;
