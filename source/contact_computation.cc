@@ -39,6 +39,7 @@ namespace Signorini
     BoundaryConditions<dim>::declare_parameters(prm);
     ContactBoundary<dim>::declare_parameters(prm);
     FrictionLaw<dim>::declare_parameters(prm);
+    FrictionalActiveSetSolver<dim>::declare_parameters(prm);
     LoadPath::declare_parameters(prm);
     ContactCondition<dim>::registry().declare_parameters(prm);
     ContactSolver<dim>::registry().declare_parameters(prm);
@@ -132,6 +133,7 @@ namespace Signorini
         friction_max_iterations = prm.get_integer("Maximum iterations");
         prm.leave_subsection();
         prm.leave_subsection();
+        friction_method = FrictionalActiveSetSolver<dim>::parse_method(prm);
       }
 
     for (const auto id : boundary_data.used_boundary_ids())
@@ -581,7 +583,9 @@ namespace Signorini
       TimerOutput::Scope t(timer, "contact solve");
       if (friction_law_.enabled())
         last_summary.report =
-          FrictionalActiveSetSolver<dim>(friction_law_, friction_max_iterations)
+          FrictionalActiveSetSolver<dim>(friction_law_,
+                                         friction_max_iterations,
+                                         friction_method)
             .solve(problem,
                    solution,
                    dual_solution,
@@ -669,10 +673,17 @@ namespace Signorini
       return text.str();
     };
     solve_failure.clear();
+    const std::string solver_name =
+      friction_law_.enabled() ?
+        FrictionalActiveSetSolver<dim>(friction_law_, 0, friction_method)
+          .name() :
+        contact_solver->name();
     if (!report.converged)
-      solve_failure = "the " + contact_solver->name() +
-                      " solver did not converge (KKT residual " +
-                      brief(report.residual) + ")";
+      solve_failure =
+        "the " + solver_name + " solver did not converge (" +
+        (report.failure.empty() ? "KKT residual " + brief(report.residual) :
+                                  report.failure) +
+        ")";
     else if (!last_solve_converged)
       solve_failure = "the solution checks fail: " + worst_check + " " +
                       brief(worst_value) +

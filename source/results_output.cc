@@ -26,6 +26,17 @@ namespace Signorini
 {
   namespace
   {
+    /// @p x with three significant digits.
+    std::string
+    brief(const double x)
+    {
+      std::ostringstream text;
+      text << std::setprecision(3) << x;
+      return text.str();
+    }
+
+
+
     /// DataOut with the names of its datasets (the fields' components) in
     /// reach, to name a field in a message.
     template <int dim>
@@ -266,6 +277,12 @@ namespace Signorini
               << state.count(Status::slip) << " slip, tangential force "
               << state.total_force() << std::endl
               << std::setprecision(2) << std::scientific
+              << (state.fixed_point.tresca_solves > 0 ?
+                    "   fixed point on the Tresca threshold: " +
+                      std::to_string(state.fixed_point.tresca_solves) +
+                      " Tresca solves, contraction " +
+                      brief(state.fixed_point.contraction) + "\n" :
+                    std::string())
               << "   friction checks: bound " << checks.friction_bound
               << ", stick " << checks.stick << ", slip " << checks.slip
               << std::defaultfloat << std::setprecision(6) << std::endl;
@@ -331,6 +348,11 @@ namespace Signorini
           table.add_value("friction_bound", summary.checks.friction_bound);
           table.add_value("stick", summary.checks.stick);
           table.add_value("slip", summary.checks.slip);
+          if (state.fixed_point.tresca_solves > 0)
+            {
+              table.add_value("tresca_solves", state.fixed_point.tresca_solves);
+              table.add_value("contraction", state.fixed_point.contraction);
+            }
         }
     }
   } // namespace

@@ -294,7 +294,10 @@ namespace Signorini
     LoadPath                               load_path_;
     std::function<void(unsigned int)>      load_step_observer;
     /// Contact/Active set/Maximum iterations (for the frictional method).
-    unsigned int       friction_max_iterations = 100;
+    unsigned int friction_max_iterations = 100;
+    /// Contact/Friction solver.
+    typename FrictionalActiveSetSolver<dim>::Method friction_method =
+      FrictionalActiveSetSolver<dim>::Method::semismooth_newton;
     FrictionState<dim> friction_state;
     ElasticitySolver   elasticity_solver;
     bool               guess_from_previous_cycle = true;

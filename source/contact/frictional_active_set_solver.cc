@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -115,12 +116,56 @@ namespace Signorini
 
 
   template <int dim>
+  void
+  FrictionalActiveSetSolver<dim>::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Friction solver",
+                      "semismooth Newton",
+                      Patterns::Selection("semismooth Newton|fixed point"),
+                      "Coulomb friction: the active set method with the "
+                      "bound mu y lagged by one step (semismooth Newton), "
+                      "or the fixed point on the Tresca threshold mu y, each "
+                      "Tresca problem solved by that method (a second route "
+                      "to the same solution, which says when it does not "
+                      "contract). Tresca: the same.");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  typename FrictionalActiveSetSolver<dim>::Method
+  FrictionalActiveSetSolver<dim>::parse_method(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    const bool fixed_point = (prm.get("Friction solver") == "fixed point");
+    prm.leave_subsection();
+    return fixed_point ? Method::fixed_point : Method::semismooth_newton;
+  }
+
+
+
+  template <int dim>
   FrictionalActiveSetSolver<dim>::FrictionalActiveSetSolver(
     const FrictionLaw<dim> &law,
-    const unsigned int      max_iterations)
+    const unsigned int      max_iterations,
+    const Method            method)
     : law(law)
     , max_iterations(max_iterations)
+    , method(method)
   {}
+
+
+
+  template <int dim>
+  std::string
+  FrictionalActiveSetSolver<dim>::name() const
+  {
+    return method == Method::fixed_point ?
+             "frictional active set (fixed point)" :
+             "frictional active set (semismooth Newton)";
+  }
 
 
 
@@ -133,6 +178,110 @@ namespace Signorini
     FrictionState<dim>                &state,
     const std::vector<bool>           &initial_active,
     const FrictionState<dim>          *previous) const
+  {
+    state.fixed_point = {};
+    if (method == Method::fixed_point &&
+        law.type() == FrictionLaw<dim>::Type::coulomb)
+      return solve_fixed_point(problem, u, y, state, initial_active, previous);
+    return solve_with_bounds(
+      problem, u, y, state, initial_active, previous, nullptr);
+  }
+
+
+
+  template <int dim>
+  typename ContactSolver<dim>::Report
+  FrictionalActiveSetSolver<dim>::solve_fixed_point(
+    const DiscreteContactProblem<dim> &problem,
+    LA::Vector                        &u,
+    Vector<double>                    &y,
+    FrictionState<dim>                &state,
+    const std::vector<bool>           &initial_active,
+    const FrictionState<dim>          *previous) const
+  {
+    const unsigned int  m          = problem.n_constraints();
+    const double        mu         = law.coefficient();
+    const double        load_scale = problem.load().linfty_norm();
+    std::vector<double> bounds(m, 0.); // s^0 = 0: frictionless
+    std::vector<bool>   active =
+      (initial_active.size() == m) ? initial_active : std::vector<bool>(m);
+    typename ContactSolver<dim>::Report report;
+    double previous_change = std::numeric_limits<double>::infinity();
+    while (true)
+      {
+        const auto tresca =
+          solve_with_bounds(problem, u, y, state, active, previous, &bounds);
+        report.iterations += tresca.iterations;
+        report.linear_solves += tresca.linear_solves;
+        report.linear_iterations += tresca.linear_iterations;
+        report.residual = tresca.residual;
+        ++state.fixed_point.tresca_solves;
+        if (!tresca.converged)
+          {
+            report.failure = "the Tresca problem of fixed-point iteration " +
+                             std::to_string(state.fixed_point.tresca_solves) +
+                             " did not converge";
+            return report;
+          }
+        // s^{j+1} = mu y(s^j), and how much it moved, relative to the
+        // forces of the problem (the same stopping rule as the slip forces
+        // of the inner method: round-off, or the linear solver's tolerance
+        // where the change stops shrinking)
+        double change = 0.;
+        for (unsigned int i = 0; i < m; ++i)
+          {
+            const double next = mu * std::max(y[i], 0.);
+            change            = std::max(change, std::abs(next - bounds[i]));
+            bounds[i]         = next;
+            active[i] =
+              (state.status[i] != FrictionState<dim>::Status::separated);
+          }
+        // (the contraction of the map, from the changes above round-off)
+        const double force_scale = std::max(max_norm(y), load_scale);
+        if (std::isfinite(previous_change) && change > 1e-10 * force_scale)
+          state.fixed_point.contraction =
+            std::max(state.fixed_point.contraction, change / previous_change);
+        if (change <= 1e-14 * force_scale ||
+            (change <= 1e-8 * force_scale && change >= 0.5 * previous_change))
+          {
+            report.converged = true;
+            break;
+          }
+        if (state.fixed_point.tresca_solves >= max_iterations)
+          {
+            std::ostringstream text;
+            text << "the fixed point on the Tresca threshold did not converge "
+                    "in "
+                 << max_iterations << " Tresca solves";
+            if (state.fixed_point.contraction >= 1.)
+              text << ": it does not contract (its last changes grew by "
+                   << state.fixed_point.contraction << "), so at mu = " << mu
+                   << " the Coulomb problem may have several solutions or "
+                      "none";
+            report.failure = text.str();
+            break;
+          }
+        previous_change = change;
+      }
+    // the Coulomb bounds of the solution (the checks measure how far it is
+    // from the Coulomb law, not from the last Tresca problem)
+    for (unsigned int i = 0; i < m; ++i)
+      state.bound[i] = mu * std::max(y[i], 0.);
+    return report;
+  }
+
+
+
+  template <int dim>
+  typename ContactSolver<dim>::Report
+  FrictionalActiveSetSolver<dim>::solve_with_bounds(
+    const DiscreteContactProblem<dim> &problem,
+    LA::Vector                        &u,
+    Vector<double>                    &y,
+    FrictionState<dim>                &state,
+    const std::vector<bool>           &initial_active,
+    const FrictionState<dim>          *previous,
+    const std::vector<double>         *given_bounds) const
   {
     using Status                         = typename FrictionState<dim>::Status;
     const ContactBoundary<dim> &boundary = problem.boundary();
@@ -148,9 +297,10 @@ namespace Signorini
           tresca_bounds(law, boundary) :
           std::vector<double>(m, 0.);
     const auto bound = [&](const unsigned int i) {
-      return law.type() == FrictionLaw<dim>::Type::coulomb ?
-               law.coefficient() * std::max(y[i], 0.) :
-               tresca_bound[i];
+      return given_bounds != nullptr ? (*given_bounds)[i] :
+             law.type() == FrictionLaw<dim>::Type::coulomb ?
+                                       law.coefficient() * std::max(y[i], 0.) :
+                                       tresca_bound[i];
     };
 
     const double load_scale = problem.load().linfty_norm();

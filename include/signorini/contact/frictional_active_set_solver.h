@@ -1,11 +1,13 @@
 #ifndef signorini_contact_frictional_active_set_solver_h
 #define signorini_contact_frictional_active_set_solver_h
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 
 #include <signorini/contact/friction_law.h>
 #include <signorini/contact/solver.h>
 
+#include <string>
 #include <vector>
 
 namespace Signorini
@@ -43,6 +45,16 @@ namespace Signorini
     /// sum_k force_k
     Tensor<1, dim>
     total_force() const;
+
+    /// The fixed point on the Tresca threshold (Friction solver = fixed
+    /// point, Coulomb): its Tresca solves and its contraction, the largest
+    /// ratio of two successive changes of the bounds above round-off (0
+    /// before two).
+    struct FixedPoint
+    {
+      unsigned int tresca_solves = 0;
+      double       contraction   = 0.;
+    } fixed_point;
   };
 
   /**
@@ -71,8 +83,33 @@ namespace Signorini
   class FrictionalActiveSetSolver
   {
   public:
+    /// How the Coulomb bound mu y_k is coupled to the normal problem.
+    enum class Method
+    {
+      /// Lagged by one step of the method above.
+      semismooth_newton,
+      /// The fixed point on the Tresca threshold: s^{j+1} = mu y(s^j), each
+      /// Tresca problem solved to convergence by the method above, from
+      /// s^0 = 0 (the frictionless problem). The second route to the same
+      /// solution; where the map does not contract (a large mu) it says
+      /// so rather than return one of several answers.
+      fixed_point
+    };
+
+    /// Contact/Friction solver.
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    static Method
+    parse_method(ParameterHandler &prm);
+
     FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
-                              const unsigned int      max_iterations);
+                              const unsigned int      max_iterations,
+                              const Method method = Method::semismooth_newton);
+
+    /// The method's name, for reports.
+    std::string
+    name() const;
 
     /**
      * Solve @p problem from @p u and the normal active set @p
@@ -91,8 +128,29 @@ namespace Signorini
           const FrictionState<dim>          *previous       = nullptr) const;
 
   private:
+    /// The method above with the bounds s_k given by @p bounds if not null
+    /// (a Tresca problem), or by the law.
+    typename ContactSolver<dim>::Report
+    solve_with_bounds(const DiscreteContactProblem<dim> &problem,
+                      LA::Vector                        &u,
+                      Vector<double>                    &y,
+                      FrictionState<dim>                &state,
+                      const std::vector<bool>           &initial_active,
+                      const FrictionState<dim>          *previous,
+                      const std::vector<double>         *bounds) const;
+
+    /// Method::fixed_point.
+    typename ContactSolver<dim>::Report
+    solve_fixed_point(const DiscreteContactProblem<dim> &problem,
+                      LA::Vector                        &u,
+                      Vector<double>                    &y,
+                      FrictionState<dim>                &state,
+                      const std::vector<bool>           &initial_active,
+                      const FrictionState<dim>          *previous) const;
+
     const FrictionLaw<dim> &law;
     const unsigned int      max_iterations;
+    const Method            method;
   };
 } // namespace Signorini
 

@@ -39,6 +39,9 @@ namespace Signorini
       double residual = 0.;
       /// Whether the solver reached its tolerance.
       bool converged = false;
+      /// Why it did not, when the solver can say more than that it reached
+      /// its iteration limit (empty otherwise).
+      std::string failure;
     };
 
     virtual ~ContactSolver() = default;
