@@ -380,13 +380,17 @@ namespace Signorini
 
         // the tangential forces on the body (K u = F + f: f = -(F - K u))
         // and displacements of the nodes
-        const Vector<double> residual     = gather(problem.residual(u), dofs);
+        // (and the largest force on any dof, the reactions of the Dirichlet
+        // data included: the scale of a problem driven by them)
+        const LA::Vector     all_forces   = problem.residual(u);
+        const double         reaction     = all_forces.linfty_norm();
+        const Vector<double> residual     = gather(all_forces, dofs);
         const Vector<double> displacement = gather(u, dofs);
         const Vector<double> slack        = problem.slack(u);
         const double         tol_slack    = 1e-9 * problem.constraint_scale(u);
         const double         tol_y        = 1e-9 * max_norm(y);
         // (the force of a free tangential dof is round-off, not friction)
-        double tol_force = std::max(max_norm(y), load_scale);
+        double tol_force = std::max({max_norm(y), load_scale, reaction});
         for (unsigned int i = 0; i < m; ++i)
           for (unsigned int c = 0; c < dim; ++c)
             if (c != c_star)
@@ -428,8 +432,15 @@ namespace Signorini
                   ++n_sliding;
                 }
             c_k /= n_sliding;
-            const Tensor<1, dim> xi = active[i] ? force - c_k * slip : force;
+            const Tensor<1, dim> xi = force - c_k * slip;
             next_stick[i]           = !(xi.norm() > s + tol_force);
+            // a node whose slip would reverse passes through stick first
+            // (in 2D, where n is a sign, the plain step let a band of nodes
+            // by the stick zone of a Hertz contact reverse at every step,
+            // a cycle of period 2)
+            if (!next_stick[i] && !stick[i] && active[i] &&
+                xi * slip_force[i] < 0.)
+              next_stick[i] = true;
             if (!next_stick[i])
               {
                 // the semismooth Newton step linearises s xi / |xi|: the
@@ -450,7 +461,7 @@ namespace Signorini
         // part)
         const bool   same_sets = (next_active == active && next_stick == stick);
         const double force_scale =
-          std::max({largest_bound, max_norm(y), load_scale});
+          std::max({largest_bound, max_norm(y), load_scale, reaction});
         if (same_sets &&
             (change <= 1e-14 * force_scale ||
              (change <= 1e-8 * force_scale && change >= 0.5 * previous_change)))

@@ -72,7 +72,9 @@ namespace Signorini
    * it slides, and the semismooth Newton step linearises s xi / |xi|: the
    * prescribed force s_k n_k along n_k = xi_k / |xi_k|, and across n_k a spring
    * s_k c_k / (|xi_k| - s_k) on t_k (none in 2D, where n_k is a sign). A node
-   * entering contact starts sticking. Each step is one symmetric positive
+   * entering contact takes the same rule (its force is zero: it sticks unless
+   * it moved), and a sliding node whose direction would reverse sticks for
+   * one step (doc/theory.md section 8). Each step is one symmetric positive
    * definite elasticity solve (stick: constraints, slip: nodal forces and
    * springs). The Coulomb bound s_k = mu y_k is that of the previous step; the
    * method stops when the sets repeat and the slip forces have converged to
