@@ -19,8 +19,8 @@ round-off and
 On the paper's block (prm/block.prm, pointwise condition) mu = 0 gives the
 frictionless energies, contact forces and active sets (1e-12), and the
 Coulomb block (mu = 0.3) has sticking and sliding nodes and gives the same
-results on 1 and 2 ranks (tests/runs/serial_parallel.py); so does the 3D
-block (prm/block-3d.prm, one cycle). The second solver route (Friction
+results on 1, 2 and 3 ranks (tests/runs/serial_parallel.py); so does the 3D
+block (prm/block-3d.prm, one cycle) on 1 and 2. The second route (Friction
 solver = fixed point: the fixed point on the Tresca threshold mu y) gives
 the exact full-slip solutions in 2D and 3D, and on both blocks the same
 stick and slip sets, energies and forces as the semismooth Newton method
@@ -184,19 +184,21 @@ end
     print(f"mu = 0: energies {[r['energy'] for r in zero]}, frictionless "
           f"{[r['energy'] for r in none]}")
 
-    def on_one_and_two_ranks(name, prm, extra):
-        """The rows of PRM + EXTRA on 1 rank, checked against 2 ranks."""
+    def on_one_and_two_ranks(name, prm, extra, ranks=(2,)):
+        """The rows of PRM + EXTRA on 1 rank, checked against RANKS."""
         label = name.replace("-", " ")
         one = rows_of(name, prm, extra)
-        two = rows_of(name + "-np2", prm, extra, 2)
-        problems.extend(f"{label}, 1 vs 2 ranks: {p}" for p in
-                        compare(os.path.join(work, name),
-                                os.path.join(work, name + "-np2")))
-        for a, b in zip(one, two):
-            for key in ["stick_nodes", "slip_nodes"]:
-                if a[key] != b[key]:
-                    problems.append(f"{label}, cycle {a['cycle']}: {key} "
-                                    f"{a[key]} on 1 rank, {b[key]} on 2")
+        for n in ranks:
+            other = rows_of(f"{name}-np{n}", prm, extra, n)
+            problems.extend(f"{label}, 1 vs {n} ranks: {p}" for p in
+                            compare(os.path.join(work, name),
+                                    os.path.join(work, f"{name}-np{n}")))
+            for a, b in zip(one, other):
+                for key in ["stick_nodes", "slip_nodes"]:
+                    if a[key] != b[key]:
+                        problems.append(f"{label}, cycle {a['cycle']}: {key} "
+                                        f"{a[key]} on 1 rank, {b[key]} on "
+                                        f"{n}")
         print(f"{label}: stick {[r['stick_nodes'] for r in one]}, slip "
               f"{[r['slip_nodes'] for r in one]}, energy "
               f"{[r['energy'] for r in one]}")
@@ -205,7 +207,7 @@ end
     # the Coulomb block in 2D and 3D on 1 and 2 ranks
     coulomb = pointwise + contact(
         "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n")
-    one = on_one_and_two_ranks("block-coulomb", block, coulomb)
+    one = on_one_and_two_ranks("block-coulomb", block, coulomb, (2, 3))
     if not any(int(r["stick_nodes"]) > 0 and int(r["slip_nodes"]) > 0
                for r in one):
         problems.append("Coulomb block: no cycle with both sticking and "
@@ -252,7 +254,7 @@ end
     for p in problems:
         print("  " + p)
     print("FAILED" if problems else "friction: exact slip, stick and bonded "
-          "solutions, mu = 0 frictionless, 1 and 2 ranks identical, the "
+          "solutions, mu = 0 frictionless, 1, 2 and 3 ranks identical, the "
           "fixed point on the Tresca threshold agrees")
     sys.exit(1 if problems else 0)
 
