@@ -553,6 +553,7 @@ namespace Signorini
           }
         path.converged             = last_summary.report.converged;
         path.residual              = last_summary.report.residual;
+        path.failure               = last_summary.report.failure;
         last_summary.report        = path;
         last_summary.solve_seconds = path_seconds;
       }

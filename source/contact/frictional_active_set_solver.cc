@@ -236,8 +236,10 @@ namespace Signorini
             active[i] =
               (state.status[i] != FrictionState<dim>::Status::separated);
           }
-        // (the contraction of the map, from the changes above round-off)
-        const double force_scale = std::max(max_norm(y), load_scale);
+        // (the contraction of the map, from the changes above round-off;
+        // the reactions too, for a problem driven by its Dirichlet data)
+        const double force_scale = std::max(
+          {max_norm(y), load_scale, problem.residual(u).linfty_norm()});
         if (std::isfinite(previous_change) && change > 1e-10 * force_scale)
           state.fixed_point.contraction =
             std::max(state.fixed_point.contraction, change / previous_change);
@@ -254,8 +256,10 @@ namespace Signorini
                     "in "
                  << max_iterations << " Tresca solves";
             if (state.fixed_point.contraction >= 1.)
-              text << ": it does not contract (its last changes grew by "
-                   << state.fixed_point.contraction << "), so at mu = " << mu
+              text << ": it does not contract (its changes grew by a "
+                      "factor "
+                   << std::setprecision(3) << state.fixed_point.contraction
+                   << "), so at mu = " << mu
                    << " the Coulomb problem may have several solutions or "
                       "none";
             report.failure = text.str();
