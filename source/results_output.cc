@@ -629,6 +629,8 @@ namespace Signorini
             out << ",tangential_force_" << coordinates[d];
           for (unsigned int d = 0; d < dim; ++d)
             out << ",slip_" << coordinates[d];
+          for (unsigned int d = 0; d < dim; ++d)
+            out << ",accumulated_slip_" << coordinates[d];
         }
       out << '\n' << std::setprecision(12);
       for (const unsigned int k : order)
@@ -651,6 +653,8 @@ namespace Signorini
                 out << ',' << (i >= 0 ? friction.force[i][d] : 0.);
               for (unsigned int d = 0; d < dim; ++d)
                 out << ',' << (i >= 0 ? friction.slip[i][d] : 0.);
+              for (unsigned int d = 0; d < dim; ++d)
+                out << ',' << (i >= 0 ? friction.accumulated_slip[i][d] : 0.);
             }
           out << '\n';
         }
@@ -752,7 +756,7 @@ namespace Signorini
     // with friction: the tangential force and the slip of each node of GC
     // (P1 vector fields vanishing away from it) and its status (0
     // separated, 1 stick, 2 slip)
-    Vector<double> friction_status, tangential_force, slip;
+    Vector<double> friction_status, tangential_force, slip, accumulated_slip;
     if (computation.friction_law().enabled())
       {
         const FrictionState<dim>   &friction = computation.friction();
@@ -761,6 +765,7 @@ namespace Signorini
         friction_status.reinit(scalar_dof_handler.n_dofs());
         tangential_force.reinit(dof_handler.n_dofs());
         slip.reinit(dof_handler.n_dofs());
+        accumulated_slip.reinit(dof_handler.n_dofs());
         const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
         for (unsigned int i = 0; i < friction.status.size(); ++i)
           {
@@ -771,6 +776,8 @@ namespace Signorini
               {
                 tangential_force[node.dofs[d]] = friction.force[i][d];
                 slip[node.dofs[d]]             = friction.slip[i][d];
+                accumulated_slip[node.dofs[d]] =
+                  friction.accumulated_slip[i][d];
               }
           }
         data_out.add_data_vector(scalar_dof_handler,
@@ -784,6 +791,11 @@ namespace Signorini
         data_out.add_data_vector(dof_handler,
                                  slip,
                                  std::vector<std::string>(dim, "slip"),
+                                 vector_part);
+        data_out.add_data_vector(dof_handler,
+                                 accumulated_slip,
+                                 std::vector<std::string>(dim,
+                                                          "accumulated_slip"),
                                  vector_part);
       }
     std::unique_ptr<CellDataPostprocessor<dim>> eps_E_field;

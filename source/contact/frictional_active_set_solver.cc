@@ -333,6 +333,7 @@ namespace Signorini
     state.force.assign(m, Tensor<1, dim>());
     state.slip.assign(m, Tensor<1, dim>());
     state.displacement.assign(m, Tensor<1, dim>());
+    state.accumulated_slip.assign(m, Tensor<1, dim>());
     state.bound.assign(m, 0.);
     Progress progress("frictional active set", u.get_mpi_communicator());
     double   previous_change = std::numeric_limits<double>::infinity();
@@ -424,7 +425,11 @@ namespace Signorini
             state.force[i]            = active[i] ? force : Tensor<1, dim>();
             state.slip[i]             = slip;
             state.displacement[i]     = tangential;
-            state.bound[i]            = s;
+            state.accumulated_slip[i] =
+              (previous != nullptr ? previous->accumulated_slip[i] :
+                                     Tensor<1, dim>()) +
+              (state.status[i] == Status::slip ? slip : Tensor<1, dim>());
+            state.bound[i] = s;
             if (!next_active[i] || !frictional[i])
               continue;
             double       c_k       = 0.;

@@ -7,14 +7,16 @@ Every step of every run must converge with its checks at round-off, and
 - proportional slip: the strip of tests/runs/friction_strip.prm (full
   slip, Coulomb) in 4 equal steps. Every step is the affine solution times
   t (all nodes slide, the same way), so the last one is the exact solution
-  (relative energy-norm error below 1e-7) and the energy of step k is
+  (relative energy-norm error below 1e-7), every node has slid by the
+  exact slip in all (accumulated_slip, 1e-9), and the energy of step k is
   (k/4)^2 times the last one (2e-9: the digits of the CSV files);
 - the same on the 3D strip sliding obliquely (3 steps);
 - unloading: the strip sheared to full slip at t = 1/2, then the shear
   removed at t = 1 (Load factor = 1, data written in t). The bottom is
   where the shear left it, and so is the stress-free solution without
   shear: every node sticks, with no tangential force, and that affine
-  solution is exact (with either Friction solver). The static problem of the same final data (one step,
+  solution is exact (with either Friction solver), the accumulated slip
+  that of the first step. The static problem of the same final data (one step,
   from the unloaded state) is another one (relative error above 0.1): the
   answer depends on the path;
 - the Coulomb block (mu = 0.3) in 5 equal steps keeps its stick and slip
@@ -132,8 +134,22 @@ def main():
         print(f"{name}: {n} steps, relative energy error "
               f"{[r['relative_energy_error'] for r in rows]}")
 
-    # unloading: all stick, exact (by both friction solvers); the static
-    # problem differs
+    def accumulated_slip(name):
+        """Every node of the strip in contact has slid by the exact slip
+        exx x + g in all (contact-00.csv: the end of the path)."""
+        for n in read(os.path.join(work, name, "contact-00.csv")):
+            if n["multiplier_node"] != "1":
+                continue
+            x = float(n["x"])
+            exact_slip = 0.3 * 1.3 * 0.1 * x + 0.01
+            expect(abs(float(n["accumulated_slip_x"]) - exact_slip) <= 1e-9,
+                   f"{name}, x = {x}: accumulated slip "
+                   f"{n['accumulated_slip_x']}, exact {exact_slip}")
+
+    accumulated_slip("slip")
+
+    # unloading: all stick, exact (by both friction solvers), having slid
+    # in the first step only; the static problem differs
     fixed_point = "subsection Contact\n  set Friction solver = fixed point\nend\n"
     for name, extra in [("unloading", ""),
                         ("unloading-fixed-point", fixed_point)]:
@@ -149,6 +165,7 @@ def main():
             expect(float(r["tangential_force"]) <= 1e-12,
                    f"{name}, cycle {r['cycle']}: tangential force "
                    f"{r['tangential_force']}")
+        accumulated_slip(name)
     static, _ = computed("unloading-static", strip,
                          UNLOADING.format(steps=1))
     for r in static:

@@ -35,6 +35,10 @@ namespace Signorini
     std::vector<Tensor<1, dim>> slip;
     /// The tangential displacement.
     std::vector<Tensor<1, dim>> displacement;
+    /// The slip accumulated along the load path: the sum of the slips of
+    /// the steps in which the node slid (the slip itself in a static
+    /// problem).
+    std::vector<Tensor<1, dim>> accumulated_slip;
     /// The bound of |force|: mu times the normal force (Coulomb), or the
     /// threshold times the node's area (Tresca).
     std::vector<double> bound;
