@@ -578,6 +578,14 @@ namespace Signorini
 
 
 
+  bool
+  ElasticitySolver::uses_direct_solver() const
+  {
+    return use_direct;
+  }
+
+
+
   std::string
   ElasticitySolver::method() const
   {

@@ -295,6 +295,8 @@ namespace Signorini
     std::function<void(unsigned int)>      load_step_observer;
     /// Contact/Active set/Maximum iterations (for the frictional method).
     unsigned int friction_max_iterations = 100;
+    /// Contact/Active set/Preconditioner update fraction (the same).
+    double friction_preconditioner_update = 0.02;
     /// Contact/Friction solver.
     typename FrictionalActiveSetSolver<dim>::Method friction_method =
       FrictionalActiveSetSolver<dim>::Method::semismooth_newton;

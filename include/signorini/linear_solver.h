@@ -126,6 +126,10 @@ namespace Signorini
     void
     release_preconditioner();
 
+    /// Whether initialize() chose the direct factorisation.
+    bool
+    uses_direct_solver() const;
+
     /// "direct (Amesos_Klu)" or "AMG-CG": what initialize() chose.
     std::string
     method() const;

@@ -378,11 +378,12 @@ namespace Signorini
   template <int dim>
   void
   DiscreteContactProblem<dim>::update_preconditioner(
-    const std::vector<bool> &active) const
+    const std::vector<bool>                    &active,
+    const std::vector<types::global_dof_index> &fixed_dofs) const
   {
     const auto        &multiplier_nodes = contact_boundary.multiplier_nodes();
     const unsigned int c_star = contact_boundary.constrained_component();
-    std::vector<types::global_dof_index> dofs;
+    std::vector<types::global_dof_index> dofs(fixed_dofs);
     for (unsigned int i = 0; i < active.size(); ++i)
       if (active[i])
         dofs.push_back(contact_boundary.node(multiplier_nodes[i]).dofs[c_star]);

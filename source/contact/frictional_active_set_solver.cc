@@ -150,10 +150,12 @@ namespace Signorini
   FrictionalActiveSetSolver<dim>::FrictionalActiveSetSolver(
     const FrictionLaw<dim> &law,
     const unsigned int      max_iterations,
-    const Method            method)
+    const Method            method,
+    const double            preconditioner_update_fraction)
     : law(law)
     , max_iterations(max_iterations)
     , method(method)
+    , preconditioner_update_fraction(preconditioner_update_fraction)
   {}
 
 
@@ -335,6 +337,9 @@ namespace Signorini
     state.displacement.assign(m, Tensor<1, dim>());
     state.accumulated_slip.assign(m, Tensor<1, dim>());
     state.bound.assign(m, 0.);
+    // the sets the preconditioner was last built for
+    std::vector<bool> preconditioned_active(m, false),
+      preconditioned_stick(m, false);
     Progress progress("frictional active set", u.get_mpi_communicator());
     double   previous_change = std::numeric_limits<double>::infinity();
 
@@ -377,6 +382,24 @@ namespace Signorini
                       }
                   forces.emplace_back(dofs[dim * i + a], force);
                 }
+        // (the sticking nodes' tangential dofs are held like the active
+        // normal rows: without them in the preconditioner, CG took 4 to 9
+        // times the iterations of a frictionless solve)
+        unsigned int drift = 0;
+        for (unsigned int i = 0; i < m; ++i)
+          drift += (active[i] != preconditioned_active[i] ||
+                    (active[i] && stick[i] != preconditioned_stick[i])) ?
+                     1 :
+                     0;
+        if (drift > preconditioner_update_fraction * m)
+          {
+            std::vector<types::global_dof_index> fixed_dofs;
+            for (const auto &[dof, value] : fixed)
+              fixed_dofs.push_back(dof);
+            problem.update_preconditioner(active, fixed_dofs);
+            preconditioned_active = active;
+            preconditioned_stick  = stick;
+          }
         report.linear_iterations +=
           problem.solve_with_friction(active, fixed, forces, springs, u);
         ++report.linear_solves;

@@ -128,11 +128,15 @@ namespace Signorini
 
     /**
      * Tune the linear solver's preconditioner to the active set @p active
-     * (see ElasticitySolver::update_preconditioner()); an all-false set
-     * restores the base preconditioner.
+     * and the displacement dofs @p fixed_dofs held by other constraints
+     * (the sticking nodes' tangential dofs; see
+     * ElasticitySolver::update_preconditioner()); an all-false set restores
+     * the base preconditioner.
      */
     void
-    update_preconditioner(const std::vector<bool> &active) const;
+    update_preconditioner(
+      const std::vector<bool>                    &active,
+      const std::vector<types::global_dof_index> &fixed_dofs = {}) const;
 
     /// Solve K u = F + sum_k forces_k nu_c (at node k of GC) under the base
     /// constraints (and the supports of the free rigid motions).

@@ -109,9 +109,15 @@ namespace Signorini
     static Method
     parse_method(ParameterHandler &prm);
 
+    /// @p preconditioner_update_fraction: rebuild the elasticity
+    /// preconditioner for the current sets (active normal rows, sticking
+    /// nodes' tangential dofs) when more than this fraction of the rows
+    /// changed since it was built (Active set/Preconditioner update
+    /// fraction).
     FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
                               const unsigned int      max_iterations,
-                              const Method method = Method::semismooth_newton);
+                              const Method method = Method::semismooth_newton,
+                              const double preconditioner_update_fraction = 1.);
 
     /// The method's name, for reports.
     std::string
@@ -157,6 +163,7 @@ namespace Signorini
     const FrictionLaw<dim> &law;
     const unsigned int      max_iterations;
     const Method            method;
+    const double            preconditioner_update_fraction;
   };
 } // namespace Signorini
 
