@@ -34,7 +34,11 @@ namespace Signorini
   {
     prm.enter_subsection("Exact solution");
     if (prm.get_bool("Enable"))
-      displacement = parse_function<dim>(prm, dim, "Exact solution");
+      {
+        displacement = parse_function<dim>(prm, dim, "Exact solution");
+        // (compared with the end of the load path, t = 1)
+        displacement->set_time(1.);
+      }
     prm.leave_subsection();
   }
 

@@ -131,11 +131,14 @@ namespace Signorini
       if (!problem.empty() || !fs::is_directory(path, ec))
         return problem;
       // parameters.prm, statistics.csv, solution.pvd, contact-CC.csv,
-      // solution-CC.vtu, solution-CC.pvtu, solution-CC.RRR.vtu
+      // solution-CC.vtu, solution-CC.pvtu, solution-CC.RRR.vtu, and those
+      // of the load steps: load-steps.csv, steps-CC.pvd, contact-CC-SS.csv,
+      // solution-CC-SS.vtu, solution-CC-SS.pvtu, solution-CC-SS.RRR.vtu
       static const std::regex output_name(
         "parameters\\.prm|statistics\\.csv|solution\\.pvd|"
-        "contact-[0-9]{2,}\\.csv|solution-[0-9]{2,}(\\.pvtu|(\\.[0-9]{3,})?"
-        "\\.vtu)");
+        "load-steps\\.csv|steps-[0-9]{2,}\\.pvd|"
+        "contact-[0-9]{2,}(-[0-9]+)?\\.csv|"
+        "solution-[0-9]{2,}(-[0-9]+)?(\\.pvtu|(\\.[0-9]{3,})?\\.vtu)");
       const auto            names = listed_names(manifest);
       std::set<std::string> listed(names.begin(), names.end());
       std::set<std::string> links, foreign; // sorted: the first is named

@@ -400,7 +400,13 @@ namespace Signorini
     steps_table.add_value("factor", path.factor(step));
     add_contact_columns(steps_table, computation);
     steps_table.end_row();
-    if (pcout.is_active())
+    // the table and the pvd record are rewritten whole: on a long path only
+    // a hundred times, and at its end or failure (10 000 steps spent 93 %
+    // of their time rewriting them at every step)
+    const unsigned int stride = std::max(1u, path.n_steps() / 100);
+    const bool rewrite        = (step % stride == 0 || step == path.n_steps() ||
+                          !computation.converged());
+    if (pcout.is_active() && rewrite)
       output_files.write("load-steps.csv",
                          [&](std::ostream &out) { steps_table.write(out); });
 
@@ -418,7 +424,7 @@ namespace Signorini
                                           computation,
                                           nullptr,
                                           nullptr));
-    if (pcout.is_active())
+    if (pcout.is_active() && rewrite)
       output_files.write("steps-" + Utilities::int_to_string(cycle, 2) + ".pvd",
                          [&](std::ostream &out) {
                            DataOutBase::write_pvd_record(out, step_vtu_files);

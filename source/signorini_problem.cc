@@ -532,6 +532,7 @@ namespace Signorini
     // also evaluates every function where it is used on this mesh (NaN or
     // inf: an input error) and warns about questionable contact data
     computation.setup(triangulation, exact_solution.function());
+    computation.check_load_path();
     // a body held by the contact alone: is there an equilibrium? (needs
     // the load)
     computation.assemble();

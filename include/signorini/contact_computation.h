@@ -129,6 +129,12 @@ namespace Signorini
     const LoadPath &
     load_path() const;
 
+    /// Throw an InputError naming the step unless the data of every step
+    /// of the load path are finite on the current mesh (after setup(),
+    /// which checks those of its end).
+    void
+    check_load_path();
+
     /// Start the next solve from @p state (a computation on another mesh).
     void
     set_initial_contact_state(const ContactState &state);
@@ -252,10 +258,20 @@ namespace Signorini
     void
     make_constraints();
 
+    /// Set the data to those of step @p step and check them (an InputError
+    /// names the step).
+    void
+    check_step_data(const unsigned int step);
+
     /// The data of step @p step of the load path: constraints and load
     /// (the stiffness does not change).
     void
     apply_load_step(const unsigned int step);
+
+    /// Whether the current data are all zero: no load, no prescribed
+    /// displacement.
+    bool
+    data_vanish() const;
 
     /// F, and K too if @p with_matrix.
     void

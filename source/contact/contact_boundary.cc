@@ -308,6 +308,22 @@ namespace Signorini
     for (const Node &node : nodes)
       positions.push_back(node.position);
     check_finite(*gap_function, positions, "Contact/Gap");
+    // a foundation that moves along the load path is not implemented: the
+    // gap is computed once per mesh (at t = 0), so its time t is refused
+    // (at t = 0 and 1 the gap must be the same)
+    for (const auto &x : positions)
+      {
+        gap_function->set_time(0.);
+        const double at_start = gap_function->value(x);
+        gap_function->set_time(1.);
+        const double at_end = gap_function->value(x);
+        gap_function->set_time(0.);
+        if (at_start != at_end)
+          throw InputError("Contact/Gap depends on the time t (a foundation "
+                           "that moves along the load path is not "
+                           "implemented); only the data of Boundary "
+                           "conditions and the Friction threshold may use t");
+      }
 
     // the quadrature of the weighted gap in reinit()
     const QGaussSimplex<dim - 1> face_quadrature(3);

@@ -226,9 +226,8 @@ namespace Signorini
             return report;
           }
         // s^{j+1} = mu y(s^j), and how much it moved, relative to the
-        // forces of the problem (the same stopping rule as the slip forces
-        // of the inner method: round-off, or the linear solver's tolerance
-        // where the change stops shrinking)
+        // forces of the problem (stopping near round-off, or at the linear
+        // solver's tolerance where the change stops shrinking)
         double change = 0.;
         for (unsigned int i = 0; i < m; ++i)
           {
@@ -245,7 +244,9 @@ namespace Signorini
         if (std::isfinite(previous_change) && change > 1e-10 * force_scale)
           state.fixed_point.contraction =
             std::max(state.fixed_point.contraction, change / previous_change);
-        if (change <= 1e-14 * force_scale ||
+        // (1e-12, not round-off: where the change crossed 1e-14 depended
+        // on the rank count and the units)
+        if (change <= 1e-12 * force_scale ||
             (change <= 1e-8 * force_scale && change >= 0.5 * previous_change))
           {
             report.converged = true;
