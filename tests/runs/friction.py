@@ -24,7 +24,8 @@ block (prm/block-3d.prm, one cycle) on 1 and 2. The second route (Friction
 solver = fixed point: the fixed point on the Tresca threshold mu y) gives
 the exact full-slip solutions in 2D and 3D, and on both blocks the same
 stick and slip sets, energies and forces as the semismooth Newton method
-(2e-9, the digits of statistics.csv), with a contraction in (0, 1).
+(2e-9, the digits of statistics.csv), with a contraction in (0, 1), and
+the same results on 1 and 3 ranks (2D block).
 """
 import os
 import shutil
@@ -79,7 +80,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     problems = []
 
-    def rows_of(name, prm, extra, ranks=1):
+    def rows_of(name, prm, extra, ranks=1, tolerance=1e-10):
         directory = os.path.join(work, name)
         run(binary, prm, directory, ranks, extra)
         rows = read(os.path.join(directory, "statistics.csv"))
@@ -88,7 +89,7 @@ def main():
             if row["converged"] != "1":
                 problems.append(f"{where}: not converged")
             for check in CHECKS:
-                if check in row and not float(row[check]) <= 1e-10:
+                if check in row and not float(row[check]) <= tolerance:
                     problems.append(f"{where}: {check} {row[check]}")
         return rows
 
@@ -226,13 +227,19 @@ end
     exact("3D slip, Coulomb, fixed point",
           rows_of("slip-3d-fixed-point", strip_3d, fixed_point),
           "slip_nodes")
+    # (on 1 and 3 ranks alike, its Tresca solves and iterations too)
+    on_one_and_two_ranks("block-coulomb-fixed-point", block,
+                         coulomb + fixed_point, (3,))
     for name, prm, extra, newton in [
             ("block", block, coulomb, one),
             ("3D block", block_3d,
              coulomb.replace("set Number of cycles = 3",
                              "set Number of cycles = 1"), one_3d)]:
+        # (its Tresca problems stop at 1e-12 of the largest force, not at
+        # round-off, where the rank count decided: in 3D the slip
+        # directions are then within 1e-8 of the bounds)
         other = rows_of(name.replace(" ", "-") + "-fixed-point", prm,
-                        extra + fixed_point)
+                        extra + fixed_point, tolerance=1e-8)
         for a, b in zip(newton, other):
             for key in ["energy", "contact_force", "tangential_force"]:
                 x, y = float(a[key]), float(b[key])
