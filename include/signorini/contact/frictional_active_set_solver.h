@@ -82,8 +82,9 @@ namespace Signorini
    * definite elasticity solve (stick: constraints, slip: nodal forces and
    * springs). The Coulomb bound s_k = mu y_k is that of the previous step; the
    * method stops when the sets repeat and the slip forces have converged to
-   * round-off (they change by at most 1e-14 of the problem's forces, or stop
-   * shrinking below 1e-8 of them: the linear solver's tolerance).
+   * round-off (they change by at most 1e-14 of the problem's forces, 1e-12
+   * in the Tresca problems of the fixed point, or stop shrinking below 1e-8
+   * of them: the linear solver's tolerance).
    */
   template <int dim>
   class FrictionalActiveSetSolver
@@ -127,9 +128,9 @@ namespace Signorini
      * Solve @p problem from @p u and the normal active set @p
      * initial_active (may be empty); @p y the normal dual variable, @p
      * state the friction. With @p previous (the state of the previous load
-     * step on the same mesh) a node slides against where that step left
-     * it, and the stick and slip sets start from its own; without, against
-     * the unloaded state.
+     * step on the same mesh) a node slides against where that step left it,
+     * and every node in contact starts sticking there (the elastic
+     * predictor); without, against the unloaded state.
      */
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
