@@ -736,8 +736,7 @@ namespace Signorini
     solve_failure.clear();
     const std::string solver_name =
       friction_law_.enabled() ?
-        FrictionalActiveSetSolver<dim>(friction_law_, 0, friction_method)
-          .name() :
+        FrictionalActiveSetSolver<dim>::name(friction_method) :
         contact_solver->name();
     if (!report.converged)
       solve_failure =

@@ -162,7 +162,7 @@ namespace Signorini
 
   template <int dim>
   std::string
-  FrictionalActiveSetSolver<dim>::name() const
+  FrictionalActiveSetSolver<dim>::name(const Method method)
   {
     return method == Method::fixed_point ?
              "frictional active set (fixed point)" :

@@ -120,9 +120,9 @@ namespace Signorini
                               const Method method = Method::semismooth_newton,
                               const double preconditioner_update_fraction = 1.);
 
-    /// The method's name, for reports.
-    std::string
-    name() const;
+    /// The name of @p method, for reports.
+    static std::string
+    name(const Method method);
 
     /**
      * Solve @p problem from @p u and the normal active set @p
