@@ -85,6 +85,7 @@ namespace Signorini
         // (the springs of the rows this rank owns: a vertex's dofs have one
         // owner)
         const IndexSet owned = layout.locally_owned_elements();
+        with_springs         = !springs.empty(); // the same on every rank
         for (const auto &spring : springs)
           if (owned.is_element(std::get<0>(spring)))
             own_springs.push_back(spring);
@@ -108,8 +109,21 @@ namespace Signorini
           }
         distributed.compress(VectorOperation::insert);
         matrix.vmult(dst, distributed);
-        for (const auto &[i, j, value] : own_springs)
-          dst[i] += value * src[j];
+        // (added and exchanged by every rank: an element-wise += followed
+        // by the insertions below made Trilinos exchange on the ranks that
+        // own springs only, and the others waited in another collective)
+        if (with_springs)
+          {
+            std::vector<types::global_dof_index> indices;
+            std::vector<double>                  values;
+            for (const auto &[i, j, value] : own_springs)
+              {
+                indices.push_back(i);
+                values.push_back(value * src[j]);
+              }
+            dst.add(indices, values);
+            dst.compress(VectorOperation::add);
+          }
         lines.add_to_masters(dst);
         for (const auto *line : lines.own)
           dst[line->index] = src[line->index];
@@ -122,6 +136,7 @@ namespace Signorini
       std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>
                          own_springs;
+      bool               with_springs;
       mutable LA::Vector distributed;
       mutable LA::Vector ghosted;
     };

@@ -70,10 +70,12 @@ def zone_radius(rows, inside):
 
 
 def study(binary, work, nu, steps=4, tangential=None, contact_size=None,
-          dimension=2):
+          dimension=2, ranks=1):
     """The row of the table for Poisson ratio NU (runs in WORK/nu-NU), on
-    the geometry of the example, or with its h_contact = CONTACT_SIZE."""
-    directory = os.path.join(work, f"{dimension}d-nu-{nu}")
+    the geometry of the example, or with its h_contact = CONTACT_SIZE, on
+    RANKS MPI ranks."""
+    directory = os.path.join(work, f"{dimension}d-nu-{nu}" +
+                             (f"-np{ranks}" if ranks > 1 else ""))
     os.makedirs(directory, exist_ok=True)
     name, size = ("hertz-cylinder.geo", 0.002) if dimension == 2 else \
         ("hertz-ball.geo", 0.01)
@@ -103,7 +105,17 @@ def study(binary, work, nu, steps=4, tangential=None, contact_size=None,
                 "  end\nend\n"
                 "subsection Output\n  set Write vtu = false\n"
                 "  set Print timing = false\nend\n")
-    result = subprocess.run([binary, prm], capture_output=True, text=True)
+    command = [binary, prm]
+    if ranks > 1:
+        command = ["mpirun", "-np", str(ranks)] + command
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    try:
+        result = subprocess.run(command, capture_output=True, text=True,
+                                env=env, timeout=900)
+    except subprocess.TimeoutExpired:
+        sys.exit(f"{' '.join(command)} did not finish in 900 s")
     if result.returncode != 0:
         sys.exit(f"{binary} {prm} failed:\n{result.stdout}{result.stderr}")
     statistics = list(csv.DictReader(
