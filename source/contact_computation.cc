@@ -136,6 +136,8 @@ namespace Signorini
         prm.leave_subsection();
         prm.leave_subsection();
         friction_method = FrictionalActiveSetSolver<dim>::parse_method(prm);
+        friction_uniqueness_check =
+          FrictionalActiveSetSolver<dim>::parse_uniqueness_check(prm);
       }
 
     for (const auto id : boundary_data.used_boundary_ids())
@@ -646,7 +648,8 @@ namespace Signorini
                                 // block, 6k DoFs)
                                 elasticity_solver.uses_direct_solver() ?
                                   1. :
-                                  friction_preconditioner_update)
+                                  friction_preconditioner_update,
+                                friction_uniqueness_check)
                                 .solve(problem,
                                        solution,
                                        dual_solution,

@@ -283,6 +283,13 @@ namespace Signorini
                       " Tresca solves, contraction " +
                       brief(state.fixed_point.contraction) + "\n" :
                     std::string())
+              << (state.contraction_at_solution ?
+                    "   contraction at the solution " +
+                      brief(*state.contraction_at_solution) +
+                      (*state.contraction_at_solution < 1. ?
+                         " (locally unique)\n" :
+                         " (uniqueness not shown)\n") :
+                    std::string())
               << "   friction checks: bound " << checks.friction_bound
               << ", stick " << checks.stick << ", slip " << checks.slip
               << std::defaultfloat << std::setprecision(6) << std::endl;
@@ -348,6 +355,9 @@ namespace Signorini
           table.add_value("friction_bound", summary.checks.friction_bound);
           table.add_value("stick", summary.checks.stick);
           table.add_value("slip", summary.checks.slip);
+          if (state.contraction_at_solution)
+            table.add_value("contraction_at_solution",
+                            *state.contraction_at_solution);
           if (state.fixed_point.tresca_solves > 0)
             {
               table.add_value("tresca_solves", state.fixed_point.tresca_solves);

@@ -316,6 +316,8 @@ namespace Signorini
     /// Contact/Friction solver.
     typename FrictionalActiveSetSolver<dim>::Method friction_method =
       FrictionalActiveSetSolver<dim>::Method::semismooth_newton;
+    /// Contact/Uniqueness check.
+    bool               friction_uniqueness_check = true;
     FrictionState<dim> friction_state;
     ElasticitySolver   elasticity_solver;
     bool               guess_from_previous_cycle = true;

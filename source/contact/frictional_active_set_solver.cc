@@ -1,3 +1,6 @@
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+
 #include <signorini/contact/frictional_active_set_solver.h>
 #include <signorini/input_error.h>
 #include <signorini/progress.h>
@@ -66,6 +69,168 @@ namespace Signorini
       return rows;
     }
 
+    /// What one step of the method solves for the sets it is given.
+    struct FrictionSystem
+    {
+      /// The sticking nodes' tangential dofs and where they stick.
+      std::vector<std::pair<types::global_dof_index, double>> fixed;
+      /// The sliding nodes' nodal forces.
+      std::vector<std::pair<types::global_dof_index, double>> forces;
+      /// The sliding nodes' springs across their slip direction (3D).
+      std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+        springs;
+    };
+
+    /// The step's system: nodes in contact stick at @p origin or slide under
+    /// @p slip_force, with the spring k (I - n n^T), n = slip_force /
+    /// |slip_force|, on the slip t - origin (in K, and its part in origin
+    /// with the force).
+    template <int dim>
+    FrictionSystem
+    friction_system(const FrictionRows<dim>           &rows,
+                    const std::vector<bool>           &active,
+                    const std::vector<bool>           &stick,
+                    const std::vector<Tensor<1, dim>> &slip_force,
+                    const std::vector<double>         &spring,
+                    const std::vector<Tensor<1, dim>> &origin)
+    {
+      FrictionSystem system;
+      const auto    &dofs = rows.dofs;
+      for (unsigned int i = 0; i < active.size(); ++i)
+        if (active[i] && rows.frictional[i])
+          for (unsigned int a = 0; a < dim; ++a)
+            if (rows.sliding[i][a])
+              {
+                if (stick[i])
+                  {
+                    system.fixed.emplace_back(dofs[dim * i + a], origin[i][a]);
+                    continue;
+                  }
+                double     force        = slip_force[i][a];
+                const auto norm_squared = slip_force[i].norm_square();
+                for (unsigned int b = 0; b < dim; ++b)
+                  if (rows.sliding[i][b] && spring[i] > 0. && norm_squared > 0.)
+                    {
+                      const double value =
+                        spring[i] *
+                        ((a == b ? 1. : 0.) -
+                         slip_force[i][a] * slip_force[i][b] / norm_squared);
+                      if (value != 0.)
+                        system.springs.emplace_back(dofs[dim * i + a],
+                                                    dofs[dim * i + b],
+                                                    value);
+                      force += value * origin[i][b];
+                    }
+                system.forces.emplace_back(dofs[dim * i + a], force);
+              }
+      return system;
+    }
+
+
+
+    /**
+     * How fast the fixed point on the Tresca threshold, s -> mu y(s),
+     * contracts at a solution with its @p sets (the sliding nodes' forces
+     * and springs among them): the spectral radius of its linearisation J,
+     * which moves each sliding node's force along its direction by the
+     * change of its bound, to which the normal forces y answer linearly
+     * (exactly: the system is linear for given sets). Below 1, I - J is
+     * regular and the solution locally unique. The largest Ritz value of
+     * at most @p n_iterations Arnoldi steps on J restricted to the sliding
+     * nodes, one solve each, counted in @p report (exact when there are no
+     * more sliding nodes than steps); 0 without sliding nodes.
+     */
+    template <int dim>
+    double
+    contraction_at_solution(const DiscreteContactProblem<dim>   &problem,
+                            const FrictionSets<dim>             &sets,
+                            const LA::Vector                    &u,
+                            const Vector<double>                &y,
+                            const double                         mu,
+                            const unsigned int                   n_iterations,
+                            typename ContactSolver<dim>::Report &report)
+    {
+      const FrictionRows<dim>   rows       = describe_rows(problem);
+      const auto               &active     = sets.active;
+      const auto               &stick      = sets.stick;
+      const auto               &slip_force = sets.slip_force;
+      std::vector<unsigned int> sliding;
+      double                    scale = 0.;
+      for (unsigned int i = 0; i < active.size(); ++i)
+        if (active[i] && rows.frictional[i] && !stick[i] &&
+            slip_force[i].norm() > 0.)
+          {
+            sliding.push_back(i);
+            scale = std::max(scale, slip_force[i].norm());
+          }
+      const unsigned int n = sliding.size();
+      if (n == 0 || mu == 0.)
+        return 0.;
+
+      // J v, v on the sliding nodes (applied to scale v, the size of the
+      // bounds: the normal forces it changes are then well above the
+      // solver's tolerance)
+      LA::Vector v_u(u);
+      const auto apply = [&](const Vector<double> &v) {
+        std::vector<Tensor<1, dim>> perturbed = slip_force;
+        for (unsigned int k = 0; k < n; ++k)
+          perturbed[sliding[k]] += scale * v[k] /
+                                   slip_force[sliding[k]].norm() *
+                                   slip_force[sliding[k]];
+        const FrictionSystem system = friction_system(
+          rows, active, stick, perturbed, sets.spring, sets.origin);
+        v_u = u;
+        report.linear_iterations += problem.solve_with_friction(
+          active, system.fixed, system.forces, system.springs, v_u);
+        ++report.linear_solves;
+        const Vector<double> next = problem.dual_from_residual(active, v_u);
+        Vector<double>       result(n);
+        for (unsigned int k = 0; k < n; ++k)
+          result[k] = mu * (next[sliding[k]] - y[sliding[k]]) / scale;
+        return result;
+      };
+
+      // Arnoldi from the direction of the bounds
+      const unsigned int          steps = std::min(n, n_iterations);
+      std::vector<Vector<double>> basis(1, Vector<double>(n));
+      for (unsigned int k = 0; k < n; ++k)
+        basis[0][k] = slip_force[sliding[k]].norm();
+      basis[0] /= basis[0].l2_norm();
+      FullMatrix<double> hessenberg(steps + 1, steps);
+      unsigned int       size = steps;
+      for (unsigned int j = 0; j < steps; ++j)
+        {
+          Vector<double> w    = apply(basis[j]);
+          const double   norm = w.l2_norm();
+          for (unsigned int i = 0; i <= j; ++i)
+            {
+              hessenberg(i, j) = basis[i] * w;
+              w.add(-hessenberg(i, j), basis[i]);
+            }
+          hessenberg(j + 1, j) = w.l2_norm();
+          // (an invariant subspace: its Ritz values are eigenvalues)
+          if (j + 1 == steps || hessenberg(j + 1, j) <= 1e-12 * norm)
+            {
+              size = j + 1;
+              break;
+            }
+          w /= hessenberg(j + 1, j);
+          basis.push_back(w);
+        }
+      LAPACKFullMatrix<double> ritz(size, size);
+      for (unsigned int i = 0; i < size; ++i)
+        for (unsigned int j = 0; j < size; ++j)
+          ritz(i, j) = hessenberg(i, j);
+      ritz.compute_eigenvalues();
+      double radius = 0.;
+      for (unsigned int i = 0; i < size; ++i)
+        radius = std::max(radius, std::abs(ritz.eigenvalue(i)));
+      return radius;
+    }
+
+
+
     /// Tresca's s_k: the threshold at the node times its area.
     template <int dim>
     std::vector<double>
@@ -129,7 +294,27 @@ namespace Signorini
                       "Tresca problem solved by that method (a second route "
                       "to the same solution, which says when it does not "
                       "contract). Tresca: the same.");
+    prm.declare_entry("Uniqueness check",
+                      "true",
+                      Patterns::Bool(),
+                      "Coulomb friction: estimate how fast the fixed point "
+                      "on the Tresca threshold contracts at the solution "
+                      "(6 more linear solves per solve) and refuse the "
+                      "solution where it does not (rate >= 1: not shown to "
+                      "be locally unique).");
     prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  bool
+  FrictionalActiveSetSolver<dim>::parse_uniqueness_check(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    const bool check = prm.get_bool("Uniqueness check");
+    prm.leave_subsection();
+    return check;
   }
 
 
@@ -151,11 +336,13 @@ namespace Signorini
     const FrictionLaw<dim> &law,
     const unsigned int      max_iterations,
     const Method            method,
-    const double            preconditioner_update_fraction)
+    const double            preconditioner_update_fraction,
+    const bool              check_uniqueness)
     : law(law)
     , max_iterations(max_iterations)
     , method(method)
     , preconditioner_update_fraction(preconditioner_update_fraction)
+    , check_uniqueness(check_uniqueness)
   {}
 
 
@@ -182,11 +369,47 @@ namespace Signorini
     const FrictionState<dim>          *previous) const
   {
     state.fixed_point = {};
+    state.contraction_at_solution.reset();
     if (method == Method::fixed_point &&
         law.type() == FrictionLaw<dim>::Type::coulomb)
       return solve_fixed_point(problem, u, y, state, initial_active, previous);
-    return solve_with_bounds(
-      problem, u, y, state, initial_active, previous, nullptr);
+    FrictionSets<dim> sets;
+    auto              report = solve_with_bounds(
+      problem, u, y, state, initial_active, previous, nullptr, sets);
+    judge_uniqueness(problem, u, y, sets, state, report);
+    return report;
+  }
+
+
+
+  template <int dim>
+  void
+  FrictionalActiveSetSolver<dim>::judge_uniqueness(
+    const DiscreteContactProblem<dim>   &problem,
+    const LA::Vector                    &u,
+    const Vector<double>                &y,
+    const FrictionSets<dim>             &sets,
+    FrictionState<dim>                  &state,
+    typename ContactSolver<dim>::Report &report) const
+  {
+    if (!check_uniqueness || !report.converged ||
+        law.type() != FrictionLaw<dim>::Type::coulomb)
+      return;
+    state.contraction_at_solution = contraction_at_solution(
+      problem, sets, u, y, law.coefficient(), 6, report);
+    if (*state.contraction_at_solution >= 1.)
+      {
+        std::ostringstream text;
+        text << "the fixed point on the Tresca threshold does not contract "
+                "at the solution found (rate "
+             << std::setprecision(3) << *state.contraction_at_solution
+             << " >= 1): at Contact/Friction coefficient = "
+             << law.coefficient()
+             << " the static Coulomb problem may have several solutions "
+                "here, and this one is not shown to be unique";
+        report.converged = false;
+        report.failure   = text.str();
+      }
   }
 
 
@@ -208,11 +431,12 @@ namespace Signorini
     std::vector<bool>   active =
       (initial_active.size() == m) ? initial_active : std::vector<bool>(m);
     typename ContactSolver<dim>::Report report;
+    FrictionSets<dim>                   sets;
     double previous_change = std::numeric_limits<double>::infinity();
     while (true)
       {
-        const auto tresca =
-          solve_with_bounds(problem, u, y, state, active, previous, &bounds);
+        const auto tresca = solve_with_bounds(
+          problem, u, y, state, active, previous, &bounds, sets);
         report.iterations += tresca.iterations;
         report.linear_solves += tresca.linear_solves;
         report.linear_iterations += tresca.linear_iterations;
@@ -274,6 +498,7 @@ namespace Signorini
     // from the Coulomb law, not from the last Tresca problem)
     for (unsigned int i = 0; i < m; ++i)
       state.bound[i] = mu * std::max(y[i], 0.);
+    judge_uniqueness(problem, u, y, sets, state, report);
     return report;
   }
 
@@ -288,7 +513,8 @@ namespace Signorini
     FrictionState<dim>                &state,
     const std::vector<bool>           &initial_active,
     const FrictionState<dim>          *previous,
-    const std::vector<double>         *given_bounds) const
+    const std::vector<double>         *given_bounds,
+    FrictionSets<dim>                 &sets) const
   {
     using Status                         = typename FrictionState<dim>::Status;
     const ContactBoundary<dim> &boundary = problem.boundary();
@@ -348,41 +574,8 @@ namespace Signorini
       {
         progress.report(
           [&]() { return "iteration " + std::to_string(report.iterations); });
-        std::vector<std::pair<types::global_dof_index, double>> fixed;
-        std::vector<std::pair<types::global_dof_index, double>> forces;
-        std::vector<
-          std::tuple<types::global_dof_index, types::global_dof_index, double>>
-          springs;
-        for (unsigned int i = 0; i < m; ++i)
-          if (active[i] && frictional[i])
-            for (unsigned int a = 0; a < dim; ++a)
-              if (sliding[i][a])
-                {
-                  if (stick[i])
-                    {
-                      fixed.emplace_back(dofs[dim * i + a], origin[i][a]);
-                      continue;
-                    }
-                  // k (I - n n^T) on the slip t - t_origin of the
-                  // tangential dofs (zero in 2D): in K, and its part in
-                  // t_origin with the force
-                  double     force        = slip_force[i][a];
-                  const auto norm_squared = slip_force[i].norm_square();
-                  for (unsigned int b = 0; b < dim; ++b)
-                    if (sliding[i][b] && spring[i] > 0. && norm_squared > 0.)
-                      {
-                        const double value =
-                          spring[i] *
-                          ((a == b ? 1. : 0.) -
-                           slip_force[i][a] * slip_force[i][b] / norm_squared);
-                        if (value != 0.)
-                          springs.emplace_back(dofs[dim * i + a],
-                                               dofs[dim * i + b],
-                                               value);
-                        force += value * origin[i][b];
-                      }
-                  forces.emplace_back(dofs[dim * i + a], force);
-                }
+        const FrictionSystem system =
+          friction_system(rows, active, stick, slip_force, spring, origin);
         // (the sticking nodes' tangential dofs are held like the active
         // normal rows: without them in the preconditioner, CG took 4 to 9
         // times the iterations of a frictionless solve)
@@ -395,14 +588,14 @@ namespace Signorini
         if (drift > preconditioner_update_fraction * m)
           {
             std::vector<types::global_dof_index> fixed_dofs;
-            for (const auto &[dof, value] : fixed)
+            for (const auto &[dof, value] : system.fixed)
               fixed_dofs.push_back(dof);
             problem.update_preconditioner(active, fixed_dofs);
             preconditioned_active = active;
             preconditioned_stick  = stick;
           }
-        report.linear_iterations +=
-          problem.solve_with_friction(active, fixed, forces, springs, u);
+        report.linear_iterations += problem.solve_with_friction(
+          active, system.fixed, system.forces, system.springs, u);
         ++report.linear_solves;
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
@@ -515,6 +708,8 @@ namespace Signorini
         slip_force = next_force;
         spring     = next_spring;
       }
+
+    sets = {active, stick, slip_force, spring, origin};
 
     // the relative KKT residual: the normal conditions as
     // ActiveSetSolver's, and the friction cone

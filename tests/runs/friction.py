@@ -25,7 +25,10 @@ solver = fixed point: the fixed point on the Tresca threshold mu y) gives
 the exact full-slip solutions in 2D and 3D, and on both blocks the same
 stick and slip sets, energies and forces as the semismooth Newton method
 (2e-9, the digits of statistics.csv), with a contraction in (0, 1), and
-the same results on 1 and 3 ranks (2D block).
+the same results on 1 and 3 ranks (2D block). The contraction of the fixed
+point at the solution (Contact/Uniqueness check) is in (0, 1) on the
+full-slip strip, proportional to mu there (mu = 0.3 and 1, tau = mu p), and
+the same from both routes (2D and 3D strips).
 """
 import os
 import shutil
@@ -54,6 +57,26 @@ end
 subsection Exact solution
   set Function constants  = p=0.1, nu=0.3, tau={tau}
   set Function expression = 2*(1+nu)*tau*y; -p*(1+nu)*(1-2*nu)/(1-nu)*y
+end
+"""
+
+SLIP = """
+subsection Boundary conditions
+  subsection Dirichlet 1
+    set Function constants  = p=0.1, nu=0.3, tau={tau}, g=0.01
+  end
+  subsection Traction 1
+    set Function constants  = p=0.1, tau={tau}
+  end
+  subsection Traction 2
+    set Function constants  = tau={tau}
+  end
+end
+subsection Exact solution
+  set Function constants  = p=0.1, nu=0.3, tau={tau}, g=0.01
+end
+subsection Contact
+  set Friction coefficient = {mu}
 end
 """
 
@@ -105,7 +128,8 @@ def main():
         print(f"{name}: {[r[status] for r in rows]} {status}, relative "
               f"energy error {[r['relative_energy_error'] for r in rows]}")
 
-    exact("slip, Coulomb", rows_of("slip-coulomb", strip, ""), "slip_nodes")
+    slip_rows = rows_of("slip-coulomb", strip, "")
+    exact("slip, Coulomb", slip_rows, "slip_nodes")
     # the contact table: every node with a multiplier slides by the exact
     # slip exx x + g, under the force -tau times its length
     nodes = read(os.path.join(work, "slip-coulomb", "contact-00.csv"))
@@ -122,6 +146,18 @@ def main():
                             f"{n['friction_status']}, slip {n['slip_x']} "
                             f"(exact {exact_slip}), force "
                             f"{n['tangential_force_x']}")
+    # the contraction of the fixed point on the Tresca threshold at the
+    # solution: in (0, 1), and, the sets and slip directions being those
+    # of every mu (full slip under tau = mu p), proportional to mu
+    # (at mu = 1 the slip forces settle at the linear solver's tolerance)
+    slip_mu1 = rows_of("slip-coulomb-mu1", strip,
+                       SLIP.format(tau=0.1, mu=1), tolerance=1e-8)
+    exact("slip, Coulomb, mu = 1", slip_mu1, "slip_nodes")
+    for a, b in zip(slip_rows, slip_mu1):
+        rate, rate_1 = (float(r["contraction_at_solution"]) for r in (a, b))
+        if not (0. < rate < 1. and abs(rate_1 / rate - 1. / 0.3) < 1e-3):
+            problems.append(f"slip, cycle {a['cycle']}: contraction at the "
+                            f"solution {rate} (mu = 0.3), {rate_1} (mu = 1)")
     strip_3d = os.path.join(source, "tests", "runs", "friction_strip_3d.prm")
     exact("3D slip, Coulomb", rows_of("slip-3d-coulomb", strip_3d, ""),
           "slip_nodes")
@@ -227,6 +263,15 @@ end
     exact("3D slip, Coulomb, fixed point",
           rows_of("slip-3d-fixed-point", strip_3d, fixed_point),
           "slip_nodes")
+    # (both routes judge uniqueness alike: the rate from solves to 1e-8)
+    for newton, other in [("slip-coulomb", "slip-fixed-point"),
+                          ("slip-3d-coulomb", "slip-3d-fixed-point")]:
+        for a, b in zip(*(read(os.path.join(work, d, "statistics.csv"))
+                          for d in (newton, other))):
+            x, y = (float(r["contraction_at_solution"]) for r in (a, b))
+            if not abs(x - y) <= 1e-4 * x:
+                problems.append(f"{newton}, cycle {a['cycle']}: contraction "
+                                f"at the solution {x}, {y} by the fixed point")
     # (on 1 and 3 ranks alike, its Tresca solves and iterations too)
     on_one_and_two_ranks("block-coulomb-fixed-point", block,
                          coulomb + fixed_point, (3,))

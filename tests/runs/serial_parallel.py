@@ -17,7 +17,8 @@ EXACT = ["cycle", "cells", "dofs", "nodes", "green_cells", "contact_nodes",
          "active_nodes", "contact_cells", "converged", "iterations",
          "stick_nodes", "slip_nodes", "tresca_solves"]
 CLOSE = ["energy", "contact_force", "e", "eps", "eps_contact", "eps_ex",
-         "effectivity", "prager_synge_ratio", "min_angle", "predicted_cells"]
+         "effectivity", "prager_synge_ratio", "min_angle", "predicted_cells",
+         "contraction_at_solution"]
 TOLERANCE = 1e-7  # relative; the CG tolerance is 1e-10
 
 

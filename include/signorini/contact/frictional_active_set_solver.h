@@ -7,6 +7,7 @@
 #include <signorini/contact/friction_law.h>
 #include <signorini/contact/solver.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,7 +60,29 @@ namespace Signorini
       unsigned int tresca_solves = 0;
       double       contraction   = 0.;
     } fixed_point;
+
+    /// Coulomb (Contact/Uniqueness check): the contraction of the fixed
+    /// point on the Tresca threshold at the solution (0 without sliding
+    /// nodes). Below 1 the solution is locally unique.
+    std::optional<double> contraction_at_solution;
   };
+
+  /**
+   * The sets of the frictional active set method where it stopped, with the
+   * sliding nodes' forces and springs and where the nodes slide from: the
+   * linear system of its last step.
+   */
+  template <int dim>
+  struct FrictionSets
+  {
+    std::vector<bool>           active;
+    std::vector<bool>           stick;
+    std::vector<Tensor<1, dim>> slip_force;
+    std::vector<double>         spring;
+    std::vector<Tensor<1, dim>> origin;
+  };
+
+
 
   /**
    * Primal-dual active set method for friction (Hueber, Stadler and
@@ -109,16 +132,21 @@ namespace Signorini
 
     static Method
     parse_method(ParameterHandler &prm);
+    /// Contact/Uniqueness check.
+    static bool
+    parse_uniqueness_check(ParameterHandler &prm);
 
     /// @p preconditioner_update_fraction: rebuild the elasticity
     /// preconditioner for the current sets (active normal rows, sticking
     /// nodes' tangential dofs) when more than this fraction of the rows
     /// changed since it was built (Active set/Preconditioner update
-    /// fraction).
+    /// fraction). With @p check_uniqueness, a Coulomb solution where the
+    /// fixed point on the Tresca threshold does not contract is refused.
     FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
                               const unsigned int      max_iterations,
                               const Method method = Method::semismooth_newton,
-                              const double preconditioner_update_fraction = 1.);
+                              const double preconditioner_update_fraction = 1.,
+                              const bool   check_uniqueness = true);
 
     /// The name of @p method, for reports.
     static std::string
@@ -142,7 +170,8 @@ namespace Signorini
 
   private:
     /// The method above with the bounds s_k given by @p bounds if not null
-    /// (a Tresca problem), or by the law.
+    /// (a Tresca problem), or by the law; the sets where it stopped in @p
+    /// sets.
     typename ContactSolver<dim>::Report
     solve_with_bounds(const DiscreteContactProblem<dim> &problem,
                       LA::Vector                        &u,
@@ -150,7 +179,19 @@ namespace Signorini
                       FrictionState<dim>                &state,
                       const std::vector<bool>           &initial_active,
                       const FrictionState<dim>          *previous,
-                      const std::vector<double>         *bounds) const;
+                      const std::vector<double>         *bounds,
+                      FrictionSets<dim>                 &sets) const;
+    /// Coulomb: the solution of @p report is refused (not converged) where
+    /// the fixed point on the Tresca threshold does not contract at it
+    /// (FrictionState::contraction_at_solution >= 1), its uniqueness not
+    /// shown.
+    void
+    judge_uniqueness(const DiscreteContactProblem<dim>   &problem,
+                     const LA::Vector                    &u,
+                     const Vector<double>                &y,
+                     const FrictionSets<dim>             &sets,
+                     FrictionState<dim>                  &state,
+                     typename ContactSolver<dim>::Report &report) const;
 
     /// Method::fixed_point.
     typename ContactSolver<dim>::Report
@@ -165,6 +206,7 @@ namespace Signorini
     const unsigned int      max_iterations;
     const Method            method;
     const double            preconditioner_update_fraction;
+    const bool              check_uniqueness;
   };
 } // namespace Signorini
 
