@@ -7,10 +7,12 @@ computation, pointwise condition, active set method, estimator off; each
 without friction and with Coulomb mu = 0.3. Prints per mesh: DoFs, the
 active-set iterations, the CG iterations, the seconds of the contact solve
 (linear solver setup + solve) and the ratio frictional / frictionless.
-Medians of --repeat runs, interleaved.
+Medians of --repeat runs, interleaved. --uniqueness-check false skips the
+contraction at the solution (Contact/Uniqueness check, 6 more solves).
 
 Usage: bench/friction/friction_bench.py [--repeat 3] [--levels2d 4 5]
                                         [--levels3d 0 1] [--build build]
+                                        [--uniqueness-check true|false]
 """
 import argparse
 import os
@@ -27,6 +29,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--levels2d", type=int, nargs="*", default=[4, 5])
     parser.add_argument("--levels3d", type=int, nargs="*", default=[0, 1])
+    parser.add_argument("--uniqueness-check", choices=["true", "false"],
+                        default="true")
     args = parser.parse_args()
     exe = runner.executable(args.build)
     print("| mesh | DoFs | frictionless: iterations, CG, s | Coulomb 0.3: "
@@ -40,6 +44,7 @@ def main():
         friction = dict(base)
         friction["Contact/Friction"] = "Coulomb"
         friction["Contact/Friction coefficient"] = "0.3"
+        friction["Contact/Uniqueness check"] = args.uniqueness_check
         results = measure_variants(exe, {"none": base, "Coulomb": friction},
                                    args.repeat, example)
         (row_0, t_0, _), (row_1, t_1, _) = results["none"], results["Coulomb"]
