@@ -257,6 +257,7 @@ namespace Signorini
                    dirichlet_constraints,
                    hanging_node_constraints);
     contact_condition->reinit(gamma_c);
+    check_friction_threshold();
 
     // rows of the owned cells' dofs, sent to their owners
     DynamicSparsityPattern dsp(relevant_dofs);
@@ -360,6 +361,7 @@ namespace Signorini
     try
       {
         boundary_data.check_finite(mapping_fe, dofs.get_triangulation());
+        check_friction_threshold();
       }
     catch (const InputError &error)
       {
@@ -368,6 +370,17 @@ namespace Signorini
               << " (t = " << load_path_.time(step) << "): " << error.what();
         throw InputError(where.str());
       }
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::check_friction_threshold() const
+  {
+    if (friction_law_.type() == FrictionLaw<dim>::Type::tresca)
+      for (const auto k : gamma_c.multiplier_nodes())
+        friction_law_.threshold_at(gamma_c.node(k).position);
   }
 
 

@@ -263,6 +263,10 @@ namespace Signorini
     void
     check_step_data(const unsigned int step);
 
+    /// Tresca: the threshold at every contact node is finite and >= 0.
+    void
+    check_friction_threshold() const;
+
     /// The data of step @p step of the load path: constraints and load
     /// (the stiffness does not change).
     void

@@ -3,6 +3,9 @@
 #include <signorini/contact/friction_law.h>
 #include <signorini/input_error.h>
 
+#include <cmath>
+#include <sstream>
+
 namespace Signorini
 {
   template <int dim>
@@ -98,6 +101,23 @@ namespace Signorini
   FrictionLaw<dim>::threshold() const
   {
     return *threshold_function;
+  }
+
+
+
+  template <int dim>
+  double
+  FrictionLaw<dim>::threshold_at(const Point<dim> &x) const
+  {
+    const double s = threshold_function->value(x);
+    if (!(s >= 0.) || !std::isfinite(s))
+      {
+        std::ostringstream text;
+        text << "Contact/Friction threshold is " << s << " at (" << x
+             << "): it must be finite and >= 0";
+        throw InputError(text.str());
+      }
+    return s;
   }
 
 

@@ -242,16 +242,8 @@ namespace Signorini
       std::vector<double>  bounds(rows.size());
       for (unsigned int i = 0; i < rows.size(); ++i)
         {
-          const Point<dim> &x = boundary.node(rows[i]).position;
-          const double      s = law.threshold().value(x);
-          if (!(s >= 0.) || !std::isfinite(s))
-            {
-              std::ostringstream text;
-              text << "Contact/Friction threshold is " << s << " at (" << x
-                   << "): it must be finite and >= 0";
-              throw InputError(text.str());
-            }
-          bounds[i] = s * areas[rows[i]];
+          bounds[i] =
+            law.threshold_at(boundary.node(rows[i]).position) * areas[rows[i]];
         }
       return bounds;
     }

@@ -59,6 +59,11 @@ namespace Signorini
     const Function<dim> &
     threshold() const;
 
+    /// s(@p x), or an InputError naming Contact/Friction threshold where it
+    /// is negative or not finite.
+    double
+    threshold_at(const Point<dim> &x) const;
+
     /// The time of the load path at which threshold() is evaluated (its
     /// variable t; not scaled by the Load factor: it is not a load).
     void
