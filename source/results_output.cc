@@ -399,6 +399,8 @@ namespace Signorini
         pcout << ", " << state.count(Status::stick) << " stick, "
               << state.count(Status::slip) << " slip, tangential force "
               << state.total_force();
+        if (state.contraction_at_solution)
+          pcout << ", contraction " << brief(*state.contraction_at_solution);
       }
     pcout << ", " << summary.report.iterations << " iterations"
           << (computation.converged() ? "" : ": " + computation.failure())
