@@ -257,7 +257,17 @@ namespace Signorini
                    dirichlet_constraints,
                    hanging_node_constraints);
     contact_condition->reinit(gamma_c);
-    check_friction_threshold();
+    // (at the end of the path, which a path of several steps names)
+    try
+      {
+        check_friction_threshold();
+      }
+    catch (const InputError &error)
+      {
+        if (load_path_.n_steps() == 1)
+          throw;
+        throw InputError(step_context(load_path_.n_steps()) + error.what());
+      }
 
     // rows of the owned cells' dofs, sent to their owners
     DynamicSparsityPattern dsp(relevant_dofs);
@@ -365,11 +375,20 @@ namespace Signorini
       }
     catch (const InputError &error)
       {
-        std::ostringstream where;
-        where << "Contact/Load steps: at step " << step
-              << " (t = " << load_path_.time(step) << "): " << error.what();
-        throw InputError(where.str());
+        throw InputError(step_context(step) + error.what());
       }
+  }
+
+
+
+  template <int dim>
+  std::string
+  ContactComputation<dim>::step_context(const unsigned int step) const
+  {
+    std::ostringstream where;
+    where << "Contact/Load steps: at step " << step
+          << " (t = " << load_path_.time(step) << "): ";
+    return where.str();
   }
 
 
@@ -754,11 +773,16 @@ namespace Signorini
       friction_law_.enabled() ?
         FrictionalActiveSetSolver<dim>::name(friction_method) :
         contact_solver->name();
+    // (the KKT residual leaves out the friction checks: the largest check
+    // says what failed)
     if (!report.converged)
       solve_failure =
         "the " + solver_name + " solver did not converge (" +
-        (report.failure.empty() ? "KKT residual " + brief(report.residual) :
-                                  report.failure) +
+        (report.failure.empty() ?
+           "in " + std::to_string(report.iterations) +
+             " iterations: KKT residual " + brief(report.residual) +
+             ", largest check " + worst_check + " " + brief(worst_value) :
+           report.failure) +
         ")";
     else if (!last_solve_converged)
       solve_failure = "the solution checks fail: " + worst_check + " " +

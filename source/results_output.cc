@@ -280,8 +280,12 @@ namespace Signorini
               << (state.fixed_point.tresca_solves > 0 ?
                     "   fixed point on the Tresca threshold: " +
                       std::to_string(state.fixed_point.tresca_solves) +
-                      " Tresca solves, contraction " +
-                      brief(state.fixed_point.contraction) + "\n" :
+                      " Tresca solves" +
+                      (state.fixed_point.contraction > 0. ?
+                         ", largest ratio of successive changes " +
+                           brief(state.fixed_point.contraction) :
+                         std::string()) +
+                      "\n" :
                     std::string())
               << (state.contraction_at_solution ?
                     "   contraction at the solution " +

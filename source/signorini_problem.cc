@@ -551,17 +551,28 @@ namespace Signorini
       solve_reference_on_initial_mesh();
     for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
       {
-        if (cycle == 0)
-          make_grid();
-        else
-          adapt_mesh(cycle);
-        if (cycle + 1 == n_cycles) // (no mesh after this one)
-          adaptive_mesh.release_hierarchy();
-        setup_system(cycle);
-        assemble_system();
-        solve_contact(cycle);
-        estimate_error();
-        compare_with_known_solutions();
+        try
+          {
+            if (cycle == 0)
+              make_grid();
+            else
+              adapt_mesh(cycle);
+            if (cycle + 1 == n_cycles) // (no mesh after this one)
+              adaptive_mesh.release_hierarchy();
+            setup_system(cycle);
+            assemble_system();
+            solve_contact(cycle);
+            estimate_error();
+            compare_with_known_solutions();
+          }
+        catch (const InputError &error)
+          {
+            // (data refused on a later mesh, e.g. at a new node: say which)
+            if (cycle == 0)
+              throw;
+            throw InputError("cycle " + std::to_string(cycle) + ": " +
+                             error.what());
+          }
         output_results(cycle);
         if (!computation.converged())
           throw std::runtime_error("cycle " + std::to_string(cycle) + ": " +

@@ -267,6 +267,10 @@ namespace Signorini
     void
     check_friction_threshold() const;
 
+    /// "Contact/Load steps: at step k (t = ..): ", for errors in its data.
+    std::string
+    step_context(const unsigned int step) const;
+
     /// The data of step @p step of the load path: constraints and load
     /// (the stiffness does not change).
     void
