@@ -121,10 +121,6 @@ namespace Signorini
     friction_law_.set_time(1.);
     if (friction_law_.enabled())
       {
-        if (contact_condition->name() != "pointwise")
-          throw InputError("Contact/Friction = " + friction_law_.name() +
-                           " needs Contact/Condition = pointwise (the "
-                           "integral condition has no friction yet)");
         if (contact_solver->name() != "active set")
           throw InputError("Contact/Friction = " + friction_law_.name() +
                            " needs Contact/Solver = active set");
@@ -730,12 +726,11 @@ namespace Signorini
     }
     // the friction forces on the body, at the tangential dofs
     std::vector<std::pair<types::global_dof_index, double>> friction_forces;
-    for (unsigned int i = 0; i < friction_state.force.size(); ++i)
+    for (unsigned int k = 0; k < friction_state.nodal_force.size(); ++k)
       for (unsigned int c = 0; c < dim; ++c)
-        if (friction_state.force[i][c] != 0.)
-          friction_forces.emplace_back(
-            gamma_c.node(gamma_c.multiplier_nodes()[i]).dofs[c],
-            friction_state.force[i][c]);
+        if (friction_state.nodal_force[k][c] != 0.)
+          friction_forces.emplace_back(gamma_c.node(k).dofs[c],
+                                       friction_state.nodal_force[k][c]);
     last_summary.checks = check_solution(problem,
                                          solution,
                                          dual_solution,

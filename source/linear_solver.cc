@@ -82,15 +82,44 @@ namespace Signorini
         : matrix(matrix)
         , lines(lines)
       {
-        // (the springs of the rows this rank owns: a vertex's dofs have one
-        // owner)
+        // (the springs of the rows this rank owns, and the columns they
+        // read, which may belong to other ranks: the integral condition's
+        // springs couple neighbouring nodes)
         const IndexSet owned = layout.locally_owned_elements();
         with_springs         = !springs.empty(); // the same on every rank
+        IndexSet spring_columns(owned.size());
         for (const auto &spring : springs)
           if (owned.is_element(std::get<0>(spring)))
-            own_springs.push_back(spring);
+            {
+              own_springs.push_back(spring);
+              spring_columns.add_index(std::get<1>(spring));
+            }
+        if (with_springs)
+          spring_ghosted = with_ghosts(layout, spring_columns);
         if (!lines.coupled.is_empty())
           ghosted = with_ghosts(layout, lines.coupled);
+      }
+
+      /// dst += S x, S the springs (a collective: every rank adds and
+      /// exchanges, also those without springs)
+      void
+      add_springs(LA::Vector &dst, const LA::Vector &x) const
+      {
+        // (an element-wise += followed by insertions made Trilinos
+        // exchange on the ranks that own springs only, and the others
+        // waited in another collective)
+        if (!with_springs)
+          return;
+        spring_ghosted = x;
+        std::vector<types::global_dof_index> indices;
+        std::vector<double>                  values;
+        for (const auto &[i, j, value] : own_springs)
+          {
+            indices.push_back(i);
+            values.push_back(value * spring_ghosted[j]);
+          }
+        dst.add(indices, values);
+        dst.compress(VectorOperation::add);
       }
 
       void
@@ -109,21 +138,8 @@ namespace Signorini
           }
         distributed.compress(VectorOperation::insert);
         matrix.vmult(dst, distributed);
-        // (added and exchanged by every rank: an element-wise += followed
-        // by the insertions below made Trilinos exchange on the ranks that
-        // own springs only, and the others waited in another collective)
-        if (with_springs)
-          {
-            std::vector<types::global_dof_index> indices;
-            std::vector<double>                  values;
-            for (const auto &[i, j, value] : own_springs)
-              {
-                indices.push_back(i);
-                values.push_back(value * src[j]);
-              }
-            dst.add(indices, values);
-            dst.compress(VectorOperation::add);
-          }
+        // (on C src, like K: a spring may reach a constrained dof)
+        add_springs(dst, distributed);
         lines.add_to_masters(dst);
         for (const auto *line : lines.own)
           dst[line->index] = src[line->index];
@@ -139,6 +155,7 @@ namespace Signorini
       bool               with_springs;
       mutable LA::Vector distributed;
       mutable LA::Vector ghosted;
+      mutable LA::Vector spring_ghosted;
     };
 
     /// Id_c + (P^{-1} restricted to the free dofs), P = K with the
@@ -528,9 +545,10 @@ namespace Signorini
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
     if (!direct && !amg && !aggregation_amg)
       update_preconditioner({});
-    const DistributedLines lines(constraints.get_lines(),
+    const DistributedLines    lines(constraints.get_lines(),
                                  load.locally_owned_elements());
-    // right-hand side C^T (f - K k) + Id_c k
+    const ConstrainedOperator op(*stiffness_matrix, lines, load, springs);
+    // right-hand side C^T (f - (K + S) k) + Id_c k
     LA::Vector rhs(load);
     {
       LA::Vector inhomogeneity(load); // (freed before CG allocates)
@@ -539,6 +557,7 @@ namespace Signorini
         inhomogeneity[line->index] = line->inhomogeneity;
       inhomogeneity.compress(VectorOperation::insert);
       stiffness_matrix->vmult(rhs, inhomogeneity);
+      op.add_springs(rhs, inhomogeneity);
     }
     rhs.sadd(-1., 1., load);
     lines.add_to_masters(rhs);
@@ -561,7 +580,6 @@ namespace Signorini
       forces.compress(VectorOperation::insert);
       force_norm = forces.l2_norm();
     }
-    const ConstrainedOperator op(*stiffness_matrix, lines, load, springs);
     const double  tol = (tolerance_ > 0. ? tolerance_ : relative_tolerance);
     SolverControl control(max_iterations, tol * force_norm, false, false);
     SolverCG<LA::Vector> cg(control);

@@ -672,7 +672,7 @@ namespace Signorini
                         status_names[static_cast<int>(friction.status[i])] :
                         "held");
               for (unsigned int d = 0; d < dim; ++d)
-                out << ',' << (i >= 0 ? friction.force[i][d] : 0.);
+                out << ',' << friction.nodal_force[k][d];
               for (unsigned int d = 0; d < dim; ++d)
                 out << ',' << (i >= 0 ? friction.slip[i][d] : 0.);
               for (unsigned int d = 0; d < dim; ++d)
@@ -796,8 +796,9 @@ namespace Signorini
               static_cast<double>(friction.status[i]);
             for (unsigned int d = 0; d < dim; ++d)
               {
-                tangential_force[node.dofs[d]] = friction.force[i][d];
-                slip[node.dofs[d]]             = friction.slip[i][d];
+                tangential_force[node.dofs[d]] =
+                  friction.nodal_force[multiplier_nodes[i]][d];
+                slip[node.dofs[d]] = friction.slip[i][d];
                 accumulated_slip[node.dofs[d]] =
                   friction.accumulated_slip[i][d];
               }

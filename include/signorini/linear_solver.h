@@ -106,9 +106,9 @@ namespace Signorini
      * load @p load, starting from @p solution. Returns the CG iterations.
      * A @p relative_tolerance of zero means the parameter's value. Builds
      * the base preconditioner if none is built. @p springs (row, column,
-     * value) are added to K: symmetric entries between dofs of one vertex,
-     * free of constraints (the friction of a sliding node in 3D); the
-     * preconditioner does not see them.
+     * value) are added to K as a symmetric matrix S, which like K acts on
+     * the constrained vector (C^T (K + S) C; the friction of sliding nodes
+     * in 3D); the preconditioner does not see them.
      */
     unsigned int
     solve(

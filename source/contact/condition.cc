@@ -119,9 +119,56 @@ namespace Signorini
 
 
   template <int dim>
+  const std::vector<std::pair<unsigned int, double>> &
+  ContactCondition<dim>::weight_row(const unsigned int i) const
+  {
+    AssertIndexRange(i, weight_rows.size());
+    return weight_rows[i];
+  }
+
+
+
+  template <int dim>
   void
   ContactCondition<dim>::add_active_constraints(
     const std::vector<bool>    &active,
+    const ContactBoundary<dim> &boundary,
+    AffineConstraints<double>  &constraints) const
+  {
+    add_constraints_along(active,
+                          boundary.direction(),
+                          boundary.constrained_component(),
+                          bound_values,
+                          boundary,
+                          constraints);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactCondition<dim>::add_component_constraints(
+    const std::vector<bool>    &rows,
+    const unsigned int          component,
+    const Vector<double>       &right_hand_side,
+    const ContactBoundary<dim> &boundary,
+    AffineConstraints<double>  &constraints) const
+  {
+    Tensor<1, dim> unit;
+    unit[component] = 1.;
+    add_constraints_along(
+      rows, unit, component, right_hand_side, boundary, constraints);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactCondition<dim>::add_constraints_along(
+    const std::vector<bool>    &active,
+    const Tensor<1, dim>       &nu,
+    const unsigned int          c_star,
+    const Vector<double>       &right_hand_side,
     const ContactBoundary<dim> &boundary,
     AffineConstraints<double>  &constraints) const
   {
@@ -155,7 +202,7 @@ namespace Signorini
                                         Vector<double>(n_active));
     for (unsigned int a = 0; a < n_active; ++a)
       {
-        columns[0][a] = bound_values[active_rows[a]];
+        columns[0][a] = right_hand_side[active_rows[a]];
         for (const auto &[k, w] : weight_rows[active_rows[a]])
           for (unsigned int r = 0; r < coupled_nodes.size(); ++r)
             if (coupled_nodes[r] == k)
@@ -163,8 +210,6 @@ namespace Signorini
       }
     solve_active_block(active_rows, columns);
 
-    const Tensor<1, dim> nu     = boundary.direction();
-    const unsigned int   c_star = boundary.constrained_component();
     for (unsigned int a = 0; a < n_active; ++a)
       {
         const auto &node = boundary.node(multiplier_node[active_rows[a]]);

@@ -344,8 +344,8 @@ namespace Signorini
   template <int dim>
   unsigned int
   DiscreteContactProblem<dim>::solve_with_friction(
-    const std::vector<bool>                                       &active,
-    const std::vector<std::pair<types::global_dof_index, double>> &fixed_dofs,
+    const std::vector<bool>         &active,
+    const AffineConstraints<double> &stick_constraints,
     const std::vector<std::pair<types::global_dof_index, double>> &forces,
     const std::vector<
       std::tuple<types::global_dof_index, types::global_dof_index, double>>
@@ -356,11 +356,8 @@ namespace Signorini
     contact_condition.add_active_constraints(active,
                                              contact_boundary,
                                              constraints);
-    for (const auto &[dof, value] : fixed_dofs)
-      {
-        constraints.add_line(dof);
-        constraints.set_inhomogeneity(dof, value);
-      }
+    constraints.merge(stick_constraints,
+                      AffineConstraints<double>::no_conflicts_allowed);
     constraints.merge(base_constraints,
                       AffineConstraints<double>::no_conflicts_allowed);
     constraints.close();

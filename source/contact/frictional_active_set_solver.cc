@@ -16,21 +16,49 @@ namespace Signorini
 {
   namespace
   {
-    /// What the method needs to know of each constraint row (node of GC).
+    /**
+     * What the method needs to know of the condition's rows and the nodes
+     * of GC. The friction law acts on each row i like the normal one: on
+     * the tangential multiplier lambda_i (the nodal force of the pointwise
+     * condition, the nodal value of the tangential traction of the integral
+     * one) and the weighted slip w_i = (W (t - origin))_i, whose nodal
+     * forces are W^T lambda.
+     */
     template <int dim>
     struct FrictionRows
     {
-      /// The dofs of the node, dim per row.
-      std::vector<types::global_dof_index> dofs;
-      /// The tangential components free to slide: those without Dirichlet
-      /// data (a support takes the force of the others, e.g. on a plane of
-      /// symmetry).
+      const ContactCondition<dim> *condition;
+      const ContactBoundary<dim>  *boundary;
+      unsigned int                 c_star;
+      /// The dofs of every node of GC, dim per node.
+      std::vector<types::global_dof_index> node_dofs;
+      /// The node of GC of each row.
+      std::vector<unsigned int> row_node;
+      /// The tangential components of a row's node free to slide: those
+      /// without Dirichlet data (a support takes the force of the others,
+      /// e.g. on a plane of symmetry).
       std::vector<std::array<bool, dim>> sliding;
       /// Whether a component slides at all.
       std::vector<bool> frictional;
-      /// K_ii of the dofs (c_k: the scale that makes f - c t a force
-      /// whatever the units).
-      Vector<double> stiffness_diagonal;
+      /// W_ii: the multiplier times it is about the nodal force (1 for the
+      /// pointwise condition, the node's share of GC for the integral one).
+      std::vector<double> weight;
+      /// c_i: the mean K_jj of the row's sliding dofs over W_ii^2, the
+      /// scale that makes lambda_i - c_i w_i a multiplier whatever the units
+      /// and the mesh.
+      std::vector<double> scale;
+
+      unsigned int
+      n_nodes() const
+      {
+        return node_dofs.size() / dim;
+      }
+
+      types::global_dof_index
+      dof(const unsigned int node, const unsigned int c) const
+      {
+        return node_dofs[dim * node + c];
+      }
     };
 
     template <int dim>
@@ -47,45 +75,67 @@ namespace Signorini
                            "coordinate axis (the tangential components are "
                            "then the other ones)");
       FrictionRows<dim> rows;
+      rows.condition = &problem.condition();
+      rows.boundary  = &boundary;
+      rows.c_star    = c_star;
+      for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
+        for (unsigned int c = 0; c < dim; ++c)
+          rows.node_dofs.push_back(boundary.node(k).dofs[c]);
+      rows.row_node = boundary.multiplier_nodes();
       rows.sliding.resize(m);
       rows.frictional.assign(m, false);
       const auto &constraints = problem.constraints();
       for (unsigned int i = 0; i < m; ++i)
-        {
-          const auto &node = boundary.node(boundary.multiplier_nodes()[i]);
-          for (unsigned int c = 0; c < dim; ++c)
-            {
-              rows.dofs.push_back(node.dofs[c]);
-              rows.sliding[i][c] =
-                (c != c_star && !constraints.is_constrained(node.dofs[c]));
-              rows.frictional[i] = rows.frictional[i] || rows.sliding[i][c];
-            }
-        }
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            rows.sliding[i][c] =
+              (c != c_star &&
+               !constraints.is_constrained(rows.dof(rows.row_node[i], c)));
+            rows.frictional[i] = rows.frictional[i] || rows.sliding[i][c];
+          }
       LA::Vector diagonal(problem.load());
       for (const auto i : diagonal.locally_owned_elements())
         diagonal[i] = problem.stiffness().diag_element(i);
       diagonal.compress(VectorOperation::insert);
-      rows.stiffness_diagonal = gather(diagonal, rows.dofs);
+      const Vector<double> node_diagonal = gather(diagonal, rows.node_dofs);
+      rows.weight.resize(m);
+      rows.scale.assign(m, 0.);
+      for (unsigned int i = 0; i < m; ++i)
+        {
+          rows.weight[i]         = rows.condition->row_weight(i);
+          unsigned int n_sliding = 0;
+          for (unsigned int c = 0; c < dim; ++c)
+            if (rows.sliding[i][c])
+              {
+                rows.scale[i] += node_diagonal[dim * rows.row_node[i] + c];
+                ++n_sliding;
+              }
+          if (n_sliding > 0)
+            rows.scale[i] /= n_sliding * rows.weight[i] * rows.weight[i];
+        }
       return rows;
     }
 
     /// What one step of the method solves for the sets it is given.
     struct FrictionSystem
     {
-      /// The sticking nodes' tangential dofs and where they stick.
-      std::vector<std::pair<types::global_dof_index, double>> fixed;
-      /// The sliding nodes' nodal forces.
+      /// The sticking rows: (W t)_i = (W origin)_i for their sliding
+      /// components, and the dofs these constraints are solved for.
+      AffineConstraints<double>            stick;
+      std::vector<types::global_dof_index> stick_dofs;
+      /// The sliding rows' nodal forces.
       std::vector<std::pair<types::global_dof_index, double>> forces;
-      /// The sliding nodes' springs across their slip direction (3D).
+      /// The sliding rows' springs across their slip direction (3D).
       std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>
         springs;
     };
 
-    /// The step's system: nodes in contact stick at @p origin or slide under
-    /// @p slip_force, with the spring k (I - n n^T), n = slip_force /
-    /// |slip_force|, on the slip t - origin (in K, and its part in origin
-    /// with the force).
+    /// The step's system: rows in contact stick at @p origin (per node of
+    /// GC) or slide under the multiplier @p slip_force, with the spring
+    /// k (I - n n^T), n = slip_force / |slip_force|, on the weighted slip
+    /// (W^T k (I - n n^T) W in K, and its part in origin with the forces
+    /// W^T slip_force).
     template <int dim>
     FrictionSystem
     friction_system(const FrictionRows<dim>           &rows,
@@ -95,35 +145,60 @@ namespace Signorini
                     const std::vector<double>         &spring,
                     const std::vector<Tensor<1, dim>> &origin)
     {
-      FrictionSystem system;
-      const auto    &dofs = rows.dofs;
-      for (unsigned int i = 0; i < active.size(); ++i)
-        if (active[i] && rows.frictional[i])
-          for (unsigned int a = 0; a < dim; ++a)
-            if (rows.sliding[i][a])
+      FrictionSystem     system;
+      const unsigned int m = active.size();
+      for (unsigned int c = 0; c < dim; ++c)
+        {
+          std::vector<bool> sticking(m, false);
+          bool              any = false;
+          for (unsigned int i = 0; i < m; ++i)
+            if (active[i] && stick[i] && rows.sliding[i][c])
               {
-                if (stick[i])
-                  {
-                    system.fixed.emplace_back(dofs[dim * i + a], origin[i][a]);
-                    continue;
-                  }
-                double     force        = slip_force[i][a];
-                const auto norm_squared = slip_force[i].norm_square();
-                for (unsigned int b = 0; b < dim; ++b)
-                  if (rows.sliding[i][b] && spring[i] > 0. && norm_squared > 0.)
-                    {
-                      const double value =
-                        spring[i] *
-                        ((a == b ? 1. : 0.) -
-                         slip_force[i][a] * slip_force[i][b] / norm_squared);
-                      if (value != 0.)
-                        system.springs.emplace_back(dofs[dim * i + a],
-                                                    dofs[dim * i + b],
-                                                    value);
-                      force += value * origin[i][b];
-                    }
-                system.forces.emplace_back(dofs[dim * i + a], force);
+                sticking[i] = any = true;
+                system.stick_dofs.push_back(rows.dof(rows.row_node[i], c));
               }
+          if (!any)
+            continue;
+          Vector<double> origin_c(rows.n_nodes());
+          for (unsigned int k = 0; k < origin_c.size(); ++k)
+            origin_c[k] = origin[k][c];
+          rows.condition->add_component_constraints(
+            sticking,
+            c,
+            rows.condition->constraint_values(origin_c),
+            *rows.boundary,
+            system.stick);
+        }
+      for (unsigned int i = 0; i < m; ++i)
+        {
+          if (!active[i] || !rows.frictional[i] || stick[i])
+            continue;
+          const auto  &row          = rows.condition->weight_row(i);
+          const double norm_squared = slip_force[i].norm_square();
+          for (const auto &[k, w_k] : row)
+            for (unsigned int a = 0; a < dim; ++a)
+              if (rows.sliding[i][a])
+                {
+                  double force = w_k * slip_force[i][a];
+                  if (spring[i] > 0. && norm_squared > 0.)
+                    for (const auto &[l, w_l] : row)
+                      for (unsigned int b = 0; b < dim; ++b)
+                        if (rows.sliding[i][b])
+                          {
+                            const double value =
+                              w_k * w_l * spring[i] *
+                              ((a == b ? 1. : 0.) - slip_force[i][a] *
+                                                      slip_force[i][b] /
+                                                      norm_squared);
+                            if (value != 0.)
+                              system.springs.emplace_back(rows.dof(k, a),
+                                                          rows.dof(l, b),
+                                                          value);
+                            force += value * origin[l][b];
+                          }
+                  system.forces.emplace_back(rows.dof(k, a), force);
+                }
+        }
       return system;
     }
 
@@ -185,7 +260,7 @@ namespace Signorini
           rows, active, stick, perturbed, sets.spring, sets.origin);
         v_u = u;
         report.linear_iterations += problem.solve_with_friction(
-          active, system.fixed, system.forces, system.springs, v_u);
+          active, system.stick, system.forces, system.springs, v_u);
         ++report.linear_solves;
         const Vector<double> next = problem.dual_from_residual(active, v_u);
         Vector<double>       result(n);
@@ -242,19 +317,24 @@ namespace Signorini
 
 
 
-    /// Tresca's s_k: the threshold at the node times its area.
+    /// Tresca's s_i: the threshold at the row's node times its area,
+    /// divided by the row sum of W (the bound of a nodal force for the
+    /// pointwise condition, of the traction's nodal value for the integral
+    /// one, whose row sums are the nodes' areas).
     template <int dim>
     std::vector<double>
-    tresca_bounds(const FrictionLaw<dim>     &law,
-                  const ContactBoundary<dim> &boundary)
+    tresca_bounds(const FrictionLaw<dim> &law, const FrictionRows<dim> &rows)
     {
-      const Vector<double> areas = boundary.nodal_areas();
-      const auto          &rows  = boundary.multiplier_nodes();
-      std::vector<double>  bounds(rows.size());
-      for (unsigned int i = 0; i < rows.size(); ++i)
+      const Vector<double> areas = rows.boundary->nodal_areas();
+      std::vector<double>  bounds(rows.row_node.size());
+      for (unsigned int i = 0; i < bounds.size(); ++i)
         {
-          bounds[i] =
-            law.threshold_at(boundary.node(rows[i]).position) * areas[rows[i]];
+          const unsigned int k       = rows.row_node[i];
+          double             row_sum = 0.;
+          for (const auto &entry : rows.condition->weight_row(i))
+            row_sum += entry.second;
+          bounds[i] = law.threshold_at(rows.boundary->node(k).position) *
+                      areas[k] / row_sum;
         }
       return bounds;
     }
@@ -276,7 +356,7 @@ namespace Signorini
   FrictionState<dim>::total_force() const
   {
     Tensor<1, dim> total;
-    for (const auto &f : force)
+    for (const auto &f : nodal_force)
       total += f;
     return total;
   }
@@ -519,19 +599,17 @@ namespace Signorini
     const std::vector<double>         *given_bounds,
     FrictionSets<dim>                 &sets) const
   {
-    using Status                         = typename FrictionState<dim>::Status;
-    const ContactBoundary<dim> &boundary = problem.boundary();
-    const unsigned int          m        = problem.n_constraints();
-    const unsigned int          c_star   = boundary.constrained_component();
-    const FrictionRows<dim>     rows     = describe_rows(problem);
-    const auto                 &dofs     = rows.dofs;
-    const auto                 &sliding  = rows.sliding;
-    const auto                 &frictional         = rows.frictional;
-    const auto                 &stiffness_diagonal = rows.stiffness_diagonal;
-    const std::vector<double>   tresca_bound =
+    using Status                        = typename FrictionState<dim>::Status;
+    const unsigned int        m         = problem.n_constraints();
+    const FrictionRows<dim>   rows      = describe_rows(problem);
+    const unsigned int        c_star    = rows.c_star;
+    const unsigned int        n_nodes   = rows.n_nodes();
+    const auto               &sliding   = rows.sliding;
+    const auto               &condition = problem.condition();
+    const std::vector<double> tresca_bound =
       (law.type() == FrictionLaw<dim>::Type::tresca) ?
-          tresca_bounds(law, boundary) :
-          std::vector<double>(m, 0.);
+        tresca_bounds(law, rows) :
+        std::vector<double>(m, 0.);
     const auto bound = [&](const unsigned int i) {
       return given_bounds != nullptr ? (*given_bounds)[i] :
              law.type() == FrictionLaw<dim>::Type::coulomb ?
@@ -545,28 +623,30 @@ namespace Signorini
     std::vector<bool>                   active = (initial_active.size() == m) ?
                                                    initial_active :
                                                    std::vector<bool>(m, false);
-    // every node in contact starts sticking, with no slip force (on a load
+    // every row in contact starts sticking, with no slip force (on a load
     // step, the elastic predictor: sticking where the previous step left
-    // it; starting a node from its previous slip force, that force acts on
+    // it; starting a row from its previous slip force, that force acts on
     // a body whose load changed, which made the unloading of a slipping
     // strip alternate between slips either way)
     std::vector<bool>           stick(m, true);
     std::vector<Tensor<1, dim>> slip_force(m);
-    // and the spring k_k across the slip direction n_k = slip_force / s_k
+    // and the spring k_i across the slip direction n_i = slip_force / s_i
     std::vector<double> spring(m, 0.);
-    // where the node slides from
-    std::vector<Tensor<1, dim>> origin(m);
+    // where the nodes slide from
+    std::vector<Tensor<1, dim>> origin(n_nodes);
     if (previous != nullptr)
       {
-        AssertDimension(previous->displacement.size(), m);
+        AssertDimension(previous->displacement.size(), n_nodes);
         origin = previous->displacement;
       }
     state.status.assign(m, Status::separated);
     state.force.assign(m, Tensor<1, dim>());
     state.slip.assign(m, Tensor<1, dim>());
-    state.displacement.assign(m, Tensor<1, dim>());
+    state.weighted_slip.assign(m, Tensor<1, dim>());
     state.accumulated_slip.assign(m, Tensor<1, dim>());
     state.bound.assign(m, 0.);
+    state.displacement.assign(n_nodes, Tensor<1, dim>());
+    state.nodal_force.assign(n_nodes, Tensor<1, dim>());
     // the sets the preconditioner was last built for
     std::vector<bool> preconditioned_active(m, false),
       preconditioned_stick(m, false);
@@ -579,7 +659,7 @@ namespace Signorini
           [&]() { return "iteration " + std::to_string(report.iterations); });
         const FrictionSystem system =
           friction_system(rows, active, stick, slip_force, spring, origin);
-        // (the sticking nodes' tangential dofs are held like the active
+        // (the sticking rows' tangential dofs are held like the active
         // normal rows: without them in the preconditioner, CG took 4 to 9
         // times the iterations of a frictionless solve)
         unsigned int drift = 0;
@@ -590,38 +670,61 @@ namespace Signorini
                      0;
         if (drift > preconditioner_update_fraction * m)
           {
-            std::vector<types::global_dof_index> fixed_dofs;
-            for (const auto &[dof, value] : system.fixed)
-              fixed_dofs.push_back(dof);
-            problem.update_preconditioner(active, fixed_dofs);
+            problem.update_preconditioner(active, system.stick_dofs);
             preconditioned_active = active;
             preconditioned_stick  = stick;
           }
         report.linear_iterations += problem.solve_with_friction(
-          active, system.fixed, system.forces, system.springs, u);
+          active, system.stick, system.forces, system.springs, u);
         ++report.linear_solves;
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
 
-        // the tangential forces on the body (K u = F + f: f = -(F - K u))
-        // and displacements of the nodes
+        // the tangential multipliers of the rows in contact from the forces
+        // on the body (K u = F + f: f = -(F - K u)), their nodal forces,
+        // and the weighted slips of all rows
         // (and the largest force on any dof, the reactions of the Dirichlet
         // data included: the scale of a problem driven by them)
         const LA::Vector     all_forces   = problem.residual(u);
         const double         reaction     = all_forces.linfty_norm();
-        const Vector<double> residual     = gather(all_forces, dofs);
-        const Vector<double> displacement = gather(u, dofs);
-        const Vector<double> slack        = problem.slack(u);
-        const double         tol_slack    = 1e-9 * problem.constraint_scale(u);
-        const double         tol_y        = 1e-9 * max_norm(y);
+        const Vector<double> residual     = gather(all_forces, rows.node_dofs);
+        const Vector<double> displacement = gather(u, rows.node_dofs);
+        std::vector<Tensor<1, dim>> multiplier(m), weighted_slip(m);
         // (the force of a free tangential dof is round-off, not friction)
         double tol_force = std::max({max_norm(y), load_scale, reaction});
-        for (unsigned int i = 0; i < m; ++i)
-          for (unsigned int c = 0; c < dim; ++c)
-            if (c != c_star)
-              tol_force = std::max(tol_force, std::abs(residual[dim * i + c]));
+        for (unsigned int c = 0; c < dim; ++c)
+          if (c != c_star)
+            {
+              std::vector<bool> in_contact(m);
+              for (unsigned int i = 0; i < m; ++i)
+                in_contact[i] = active[i] && sliding[i][c];
+              Vector<double> force_c(n_nodes), slip_c(n_nodes);
+              for (unsigned int k = 0; k < n_nodes; ++k)
+                {
+                  force_c[k] = -residual[dim * k + c];
+                  slip_c[k]  = displacement[dim * k + c] - origin[k][c];
+                  state.displacement[k][c] = displacement[dim * k + c];
+                  tol_force = std::max(tol_force, std::abs(force_c[k]));
+                }
+              const Vector<double> lambda_c =
+                condition.dual_from_residual(in_contact, force_c);
+              const Vector<double> nodal_c = condition.nodal_forces(lambda_c);
+              const Vector<double> w_c = condition.constraint_values(slip_c);
+              for (unsigned int k = 0; k < n_nodes; ++k)
+                state.nodal_force[k][c] = -nodal_c[k];
+              for (unsigned int i = 0; i < m; ++i)
+                if (sliding[i][c])
+                  {
+                    multiplier[i][c]    = lambda_c[i];
+                    weighted_slip[i][c] = w_c[i];
+                    state.slip[i][c]    = slip_c[rows.row_node[i]];
+                  }
+            }
         tol_force *= 1e-9;
-        std::vector<bool>           next_active(m), next_stick(m, true);
+        const Vector<double> slack     = problem.slack(u);
+        const double         tol_slack = 1e-9 * problem.constraint_scale(u);
+        const double         tol_y     = 1e-9 * max_norm(y);
+        std::vector<bool>    next_active(m), next_stick(m, true);
         std::vector<Tensor<1, dim>> next_force(m);
         std::vector<double>         next_spring(m, 0.);
         double                      largest_bound = 0., change = 0.;
@@ -629,41 +732,28 @@ namespace Signorini
           {
             next_active[i] =
               active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
-            Tensor<1, dim> force, tangential;
-            for (unsigned int c = 0; c < dim; ++c)
-              if (sliding[i][c])
-                {
-                  force[c]      = -residual[dim * i + c];
-                  tangential[c] = displacement[dim * i + c];
-                }
-            const Tensor<1, dim> slip = tangential - origin[i];
-            const double         s    = bound(i);
-            largest_bound             = std::max(largest_bound, s);
-            state.status[i]           = !active[i] ?
-                                          Status::separated :
-                                          (stick[i] ? Status::stick : Status::slip);
-            state.force[i]            = active[i] ? force : Tensor<1, dim>();
-            state.slip[i]             = slip;
-            state.displacement[i]     = tangential;
+            const Tensor<1, dim> &force  = multiplier[i];
+            const Tensor<1, dim> &slip   = weighted_slip[i];
+            const double          weight = rows.weight[i];
+            const double          s      = bound(i);
+            largest_bound                = std::max(largest_bound, s * weight);
+            state.status[i]              = !active[i] ?
+                                             Status::separated :
+                                             (stick[i] ? Status::stick : Status::slip);
+            state.force[i]               = force;
+            state.weighted_slip[i]       = slip;
             state.accumulated_slip[i] =
               (previous != nullptr ? previous->accumulated_slip[i] :
                                      Tensor<1, dim>()) +
-              (state.status[i] == Status::slip ? slip : Tensor<1, dim>());
+              (state.status[i] == Status::slip ? state.slip[i] :
+                                                 Tensor<1, dim>());
             state.bound[i] = s;
-            if (!next_active[i] || !frictional[i])
+            if (!next_active[i] || !rows.frictional[i])
               continue;
-            double       c_k       = 0.;
-            unsigned int n_sliding = 0;
-            for (unsigned int c = 0; c < dim; ++c)
-              if (sliding[i][c])
-                {
-                  c_k += stiffness_diagonal[dim * i + c];
-                  ++n_sliding;
-                }
-            c_k /= n_sliding;
-            const Tensor<1, dim> xi = force - c_k * slip;
-            next_stick[i]           = !(xi.norm() > s + tol_force);
-            // a node whose slip would reverse passes through stick first
+            const double         c_i = rows.scale[i];
+            const Tensor<1, dim> xi  = force - c_i * slip;
+            next_stick[i]            = !(xi.norm() > s + tol_force / weight);
+            // a row whose slip would reverse passes through stick first
             // (in 2D, where n is a sign, the plain step let a band of nodes
             // by the stick zone of a Hertz contact reverse at every step,
             // a cycle of period 2)
@@ -673,13 +763,14 @@ namespace Signorini
             if (!next_stick[i])
               {
                 // the semismooth Newton step linearises s xi / |xi|: the
-                // force s n along n = xi / |xi|, and across n a spring
-                // k = s c / (|xi| - s) on the tangential slip (capped: near
-                // |xi| = s it holds the node across n)
+                // multiplier s n along n = xi / |xi|, and across n a spring
+                // k = s c / (|xi| - s) on the weighted slip (capped: near
+                // |xi| = s it holds the row across n)
                 next_force[i]  = s * xi / xi.norm();
-                next_spring[i] = std::min(s * c_k / (xi.norm() - s), 1e3 * c_k);
+                next_spring[i] = std::min(s * c_i / (xi.norm() - s), 1e3 * c_i);
                 if (!stick[i] && active[i])
-                  change = std::max(change, (next_force[i] - force).norm());
+                  change =
+                    std::max(change, (next_force[i] - force).norm() * weight);
                 else
                   change = std::numeric_limits<double>::infinity();
               }

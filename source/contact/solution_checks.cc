@@ -186,14 +186,16 @@ namespace Signorini
         checks.friction_bound =
           std::max(checks.friction_bound,
                    (force - state.bound[i]) / scale_force);
-        const double slip = state.slip[i].norm();
+        // (the law's slip: weighted like the normal rows)
+        const Tensor<1, dim> &w    = state.weighted_slip[i];
+        const double          slip = w.norm();
         if (state.status[i] == Status::stick)
           checks.stick = std::max(checks.stick, slip / scale_slip);
         else if (state.status[i] == Status::slip && slip > 0.)
-          checks.slip = std::max(
-            checks.slip,
-            (state.force[i] + state.bound[i] * state.slip[i] / slip).norm() /
-              scale_force);
+          checks.slip =
+            std::max(checks.slip,
+                     (state.force[i] + state.bound[i] * w / slip).norm() /
+                       scale_force);
       }
   }
 

@@ -1,7 +1,15 @@
 #!/usr/bin/env python3
 """Friction (Contact/Friction) against exact and independent solutions.
 
-Usage: friction.py SIGNORINI_BINARY SOURCE_DIR WORK_DIRECTORY
+Usage: friction.py SIGNORINI_BINARY SOURCE_DIR WORK_DIRECTORY [CONDITION]
+
+CONDITION (Contact/Condition, pointwise by default) is that of every run
+below, the integral one's friction law acting on the nodal values of the
+tangential traction and the weighted slips. With it the exact Tresca full
+slip is approached at the rate h (relative energy error below 1e-2,
+halved by each refinement) instead of reproduced: the held corner node
+carries no multiplier, and the nodal values next to it, which exceed the
+exact traction to make up its share, are cut by the bound.
 
 On the strip of tests/runs/friction_strip.prm (and the 3D block of
 friction_strip_3d.prm, sliding obliquely) (pressure p = 0.1 and shear
@@ -97,6 +105,8 @@ def contact(lines):
 
 def main():
     binary, source, work = sys.argv[1:4]
+    condition = sys.argv[4] if len(sys.argv) > 4 else "pointwise"
+    chosen = contact(f"  set Condition = {condition}\n")
     strip = os.path.join(source, "tests", "runs", "friction_strip.prm")
     block = os.path.join(source, "tests", "inputs", "block.prm")
     if not os.path.exists(block):
@@ -106,7 +116,7 @@ def main():
 
     def rows_of(name, prm, extra, ranks=1, tolerance=1e-10):
         directory = os.path.join(work, name)
-        run(binary, prm, directory, ranks, extra)
+        run(binary, prm, directory, ranks, extra + chosen)
         rows = read(os.path.join(directory, "statistics.csv"))
         for row in rows:
             where = f"{name}, cycle {row['cycle']}"
@@ -117,15 +127,23 @@ def main():
                     problems.append(f"{where}: {check} {row[check]}")
         return rows
 
-    def exact(name, rows, status):
+    def exact(name, rows, status, first_order=False):
+        """Every node STATUS and the exact solution reproduced; with
+        FIRST_ORDER, approached at the rate h instead (below 1e-2, halved
+        by each refinement)."""
         for row in rows:
             where = f"{name}, cycle {row['cycle']}"
             error = float(row["relative_energy_error"])
-            if not error < 1e-7:
+            if not error < (1e-2 if first_order else 1e-7):
                 problems.append(f"{where}: relative energy error {error}")
             if row[status] != row["contact_nodes"]:
                 problems.append(f"{where}: {row[status]} of "
                                 f"{row['contact_nodes']} nodes {status}")
+        errors = [float(r["relative_energy_error"]) for r in rows]
+        if first_order and not all(1.8 < a / b < 2.2
+                                   for a, b in zip(errors, errors[1:])):
+            problems.append(f"{name}: relative energy errors {errors}, not "
+                            f"halved by each refinement")
         print(f"{name}: {[r[status] for r in rows]} {status}, relative "
               f"energy error {[r['relative_energy_error'] for r in rows]}")
 
@@ -169,9 +187,16 @@ def main():
     strip_3d = os.path.join(source, "tests", "runs", "friction_strip_3d.prm")
     exact("3D slip, Coulomb", rows_of("slip-3d-coulomb", strip_3d, ""),
           "slip_nodes")
+    # (the integral condition's Tresca law bounds the nodal values of the
+    # traction, of which the held corner has none: next to it they exceed
+    # the exact traction, and the bound there makes the discrete solution
+    # differ from the affine one by O(h); Coulomb's bound, mu times the
+    # normal values, follows them)
+    inexact = (condition == "integral")
     exact("3D slip, Tresca", rows_of("slip-3d-tresca", strip_3d, TRESCA),
-          "slip_nodes")
-    exact("slip, Tresca", rows_of("slip-tresca", strip, TRESCA), "slip_nodes")
+          "slip_nodes", inexact)
+    exact("slip, Tresca", rows_of("slip-tresca", strip, TRESCA), "slip_nodes",
+          inexact)
     stick = STICK.format(tau=0.02)
     exact("stick, Coulomb", rows_of("stick-coulomb", strip, stick),
           "stick_nodes")
@@ -208,7 +233,7 @@ end
                  "subsection Error estimator\n  set Enable = false\nend\n"
                  "subsection Linear solver\n"
                  "  set Relative tolerance = 1e-13\nend\n"
-                 + contact("  set Condition = pointwise\n"))
+                 + chosen)
     none = rows_of("block-none", block, pointwise)
     zero = rows_of("block-mu0", block, pointwise + contact(
         "  set Friction = Coulomb\n  set Friction coefficient = 0\n"))

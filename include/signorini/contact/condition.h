@@ -127,6 +127,23 @@ namespace Signorini
                            AffineConstraints<double>  &constraints) const;
 
     /**
+     * The same for the displacement component @p component of the nodes
+     * (friction: a tangential one): (W t)_i = @p right_hand_side[i] for the
+     * rows in @p rows, t the component at the nodes of GC, solved for the
+     * component of the rows' nodes, t(S) = W_SS^{-1} (b_S - W_{S,R} t(R)).
+     */
+    void
+    add_component_constraints(const std::vector<bool>    &rows,
+                              const unsigned int          component,
+                              const Vector<double>       &right_hand_side,
+                              const ContactBoundary<dim> &boundary,
+                              AffineConstraints<double>  &constraints) const;
+
+    /// Row i of W: (node of GC, weight).
+    const std::vector<std::pair<unsigned int, double>> &
+    weight_row(const unsigned int i) const;
+
+    /**
      * The dual variable from the normal residual forces rho_k = nu_c . (F -
      * K q)_k on the nodes of GC: y_A = W_AA^{-T} rho_A, y = 0 elsewhere.
      */
@@ -151,6 +168,17 @@ namespace Signorini
     void
     solve_active_block(const std::vector<unsigned int> &active_rows,
                        std::vector<Vector<double>>     &right_hand_sides) const;
+
+    /// add_active_constraints() along any direction: (W (d . u))_i = b_i
+    /// for the rows in @p rows, solved for the component @p c_star of the
+    /// rows' nodes (d_{c_star} != 0).
+    void
+    add_constraints_along(const std::vector<bool>    &rows,
+                          const Tensor<1, dim>       &direction,
+                          const unsigned int          c_star,
+                          const Vector<double>       &right_hand_side,
+                          const ContactBoundary<dim> &boundary,
+                          AffineConstraints<double>  &constraints) const;
   };
 } // namespace Signorini
 

@@ -110,16 +110,16 @@ namespace Signorini
 
     /**
      * The same with friction (FrictionalActiveSetSolver): besides (B u)_A =
-     * b_A, the displacement dofs of @p fixed_dofs (dof, value) have their
-     * values (the tangential components of the sticking nodes: where the
-     * previous load step left them), and the nodal forces @p forces
-     * (dof, value) act with the load (the friction forces of the sliding
-     * nodes), and the @p springs (ElasticitySolver::solve()) add to K.
+     * b_A, the constraints @p stick_constraints hold (the tangential
+     * components of the sticking rows: where the previous load step left
+     * them), and the nodal forces @p forces (dof, value) act with the load
+     * (the friction forces of the sliding rows), and the @p springs
+     * (ElasticitySolver::solve()) add to K.
      */
     unsigned int
     solve_with_friction(
-      const std::vector<bool>                                       &active,
-      const std::vector<std::pair<types::global_dof_index, double>> &fixed_dofs,
+      const std::vector<bool>         &active,
+      const AffineConstraints<double> &stick_constraints,
       const std::vector<std::pair<types::global_dof_index, double>> &forces,
       const std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>

@@ -14,8 +14,12 @@
 namespace Signorini
 {
   /**
-   * The frictional state of the contact nodes (one entry per constraint row
-   * of the pointwise condition).
+   * The frictional state of the contact nodes: one entry per constraint row
+   * (multiplier node) of the condition, or per node of GC where said. The
+   * law holds between the row's tangential multiplier and weighted slip:
+   * for the pointwise condition they are the node's tangential force and
+   * slip, for the integral one the nodal value of the tangential traction
+   * and the slip weighted like the normal rows, (M (t - origin))_i.
    */
   template <int dim>
   struct FrictionState
@@ -28,26 +32,34 @@ namespace Signorini
     };
 
     std::vector<Status> status;
-    /// The tangential nodal force the foundation exerts on the body.
+    /// The tangential multiplier: the tangential force the foundation
+    /// exerts on the body (its nodal value, a traction, for the integral
+    /// condition).
     std::vector<Tensor<1, dim>> force;
-    /// The slip: the tangential displacement since the previous load step
-    /// (the whole tangential displacement in a static problem, which starts
-    /// from the unloaded state).
+    /// Per node of GC: the tangential nodal forces, W^T force.
+    std::vector<Tensor<1, dim>> nodal_force;
+    /// The slip of the row's node: the tangential displacement since the
+    /// previous load step (the whole tangential displacement in a static
+    /// problem, which starts from the unloaded state).
     std::vector<Tensor<1, dim>> slip;
-    /// The tangential displacement.
+    /// The weighted slip (W slip)_i, on which the law acts (the slip for
+    /// the pointwise condition).
+    std::vector<Tensor<1, dim>> weighted_slip;
+    /// Per node of GC: the tangential displacement.
     std::vector<Tensor<1, dim>> displacement;
     /// The slip accumulated along the load path: the sum of the slips of
     /// the steps in which the node slid (the slip itself in a static
     /// problem).
     std::vector<Tensor<1, dim>> accumulated_slip;
-    /// The bound of |force|: mu times the normal force (Coulomb), or the
-    /// threshold times the node's area (Tresca).
+    /// The bound of |force|: mu times the normal multiplier (Coulomb), or
+    /// the threshold times the node's area (Tresca; the threshold itself
+    /// for the integral condition).
     std::vector<double> bound;
 
     unsigned int
     count(const Status s) const;
 
-    /// sum_k force_k
+    /// sum_k nodal_force_k
     Tensor<1, dim>
     total_force() const;
 
@@ -79,6 +91,7 @@ namespace Signorini
     std::vector<bool>           stick;
     std::vector<Tensor<1, dim>> slip_force;
     std::vector<double>         spring;
+    /// Per node of GC.
     std::vector<Tensor<1, dim>> origin;
   };
 
@@ -87,7 +100,9 @@ namespace Signorini
   /**
    * Primal-dual active set method for friction (Hueber, Stadler and
    * Wohlmuth, SIAM J. Sci. Comput. 30 (2008); doc/theory.md section 8) on
-   * the pointwise condition, with the contact direction along a coordinate
+   * either condition (written here for the pointwise one: for the integral
+   * one read the row's multiplier for f_k, its weighted slip for t_k, and
+   * c_k over W_kk^2), with the contact direction along a coordinate
    * axis (the other components are the tangential ones; a tangential
    * component with Dirichlet data does not slide). The normal rows follow
    * ActiveSetSolver's rule. Friction is the fixed point
