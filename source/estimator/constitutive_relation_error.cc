@@ -133,7 +133,9 @@ namespace Signorini
     const BoundaryConditions<dim>     &boundary_conditions,
     const LA::Vector                  &u_h,
     const Vector<double>              &y,
-    LA::Vector                        &admissible_displacement)
+    LA::Vector                        &admissible_displacement,
+    const FrictionLaw<dim>            *friction_law,
+    const std::vector<Tensor<1, dim>> &tangential_multiplier)
   {
     check_dirichlet_data(problem.constraints(),
                          dof_handler,
@@ -147,6 +149,32 @@ namespace Signorini
     const Vector<double> &normal_reaction = fields.normal_reaction;
     result.positive_multipliers           = fields.positive_multipliers;
     admissible_displacement               = fields.displacement;
+
+    // R^_t: the tangential multiplier's nodal values, projected onto the
+    // Coulomb cone |R^_t| <= mu |R^_n| or the Tresca disc |R^_t| <= s at
+    // each node, where the solver leaves them to its tolerance; P1, it is
+    // then in the cone everywhere on GC (which is convex; for Tresca where
+    // s is concave, its interpolant elsewhere)
+    const bool with_friction =
+      friction_law != nullptr && friction_law->enabled();
+    const bool coulomb =
+      with_friction && friction_law->type() == FrictionLaw<dim>::Type::coulomb;
+    std::vector<Tensor<1, dim>> tangential_reaction;
+    if (with_friction)
+      {
+        AssertDimension(tangential_multiplier.size(), boundary.n_nodes());
+        tangential_reaction = tangential_multiplier;
+        for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
+          {
+            const double bound =
+              coulomb ? friction_law->coefficient() *
+                          std::max(-normal_reaction[k], 0.) :
+                        friction_law->threshold_at(boundary.node(k).position);
+            const double norm = tangential_reaction[k].norm();
+            if (norm > bound)
+              tangential_reaction[k] *= bound / norm;
+          }
+      }
 
     // sigma^ and the volume terms, on the cells of this rank (which read
     // the dofs of the cells around them)
@@ -163,7 +191,8 @@ namespace Signorini
                                         boundary_conditions,
                                         boundary,
                                         normal_reaction,
-                                        ghosted_equilibrated};
+                                        ghosted_equilibrated,
+                                        tangential_reaction};
     reconstruction->compute(input,
                             ghosted_admissible,
                             error_squared,
@@ -172,7 +201,8 @@ namespace Signorini
     result.condition_defect   = reconstruction->condition_defect();
     result.step_seconds       = reconstruction->step_seconds();
 
-    // the contact term 2 int_GC R^_n (W^_n - g), per cell
+    // the contact term 2 int_GC R^_n (W^_n - g), per cell, with friction
+    // plus 2 int_GC s |W^_t| + R^_t . W^_t
     result.contact_local.reinit(error_squared.size());
     if (boundary.n_nodes() > 0)
       {
@@ -198,49 +228,59 @@ namespace Signorini
                 fe_face_values.reinit(cell, f);
                 fe_face_values[displacement].get_function_values(
                   ghosted_admissible, w_hat);
-                // R^_n is P1 on the face: in 2D linear along the edge
+                // R^ is P1 on the face: in 2D linear along the edge
                 // between its two vertices, otherwise the sum of its nodal
                 // values times the hat functions of the face's vertices
                 // (the component-0 shape functions of the cell's vertices)
                 const auto face = cell->face(f);
-                Point<dim> a;
-                double     r0 = 0., r1 = 0., length = 0.;
-                std::vector<std::pair<unsigned int, double>> face_nodes;
-                if (dim == 2)
-                  {
-                    a      = face->vertex(0);
-                    r0     = normal_reaction[boundary.node_index(
-                      face->vertex_index(0))];
-                    r1     = normal_reaction[boundary.node_index(
-                      face->vertex_index(1))];
-                    length = face->measure();
-                  }
-                else
-                  for (const unsigned int w : cell->vertex_indices())
-                    for (const unsigned int v : face->vertex_indices())
-                      if (cell->vertex_index(w) == face->vertex_index(v))
-                        face_nodes.emplace_back(
-                          fe.component_to_system_index(0, w),
-                          normal_reaction[boundary.node_index(
-                            cell->vertex_index(w))]);
+                // (node of GC, shape function index or -1 in 2D)
+                std::vector<std::pair<unsigned int, unsigned int>> face_nodes;
+                for (const unsigned int w : cell->vertex_indices())
+                  for (const unsigned int v : face->vertex_indices())
+                    if (cell->vertex_index(w) == face->vertex_index(v))
+                      face_nodes.emplace_back(
+                        boundary.node_index(cell->vertex_index(w)),
+                        fe.component_to_system_index(0, w));
+                const Point<dim>   a      = face->vertex(0);
+                const double       length = face->measure();
+                const unsigned int first =
+                  boundary.node_index(face->vertex_index(0));
                 for (const unsigned int q :
                      fe_face_values.quadrature_point_indices())
                   {
                     const Point<dim> &x = fe_face_values.quadrature_point(q);
                     double            r = 0.;
-                    if (dim == 2)
+                    Tensor<1, dim>    r_t;
+                    for (const auto &[k, i] : face_nodes)
                       {
-                        const double s = x.distance(a) / length;
-                        r              = (1. - s) * r0 + s * r1;
+                        double hat = 0.;
+                        if (dim == 2)
+                          {
+                            const double s = x.distance(a) / length;
+                            hat            = (k == first) ? 1. - s : s;
+                          }
+                        else
+                          hat = fe_face_values.shape_value_component(i, q, 0);
+                        r += hat * normal_reaction[k];
+                        if (with_friction)
+                          r_t += hat * tangential_reaction[k];
                       }
-                    else
-                      for (const auto &[i, value] : face_nodes)
-                        r +=
-                          value * fe_face_values.shape_value_component(i, q, 0);
+                    const double w_n  = w_hat[q] * boundary.direction();
+                    double       term = r * (w_n - boundary.gap(x));
+                    if (with_friction)
+                      {
+                        // the bipotential's friction part, s |W^_t| + R^_t .
+                        // W^_t >= 0 for R^_t in the cone or the disc
+                        const Tensor<1, dim> w_t =
+                          w_hat[q] - w_n * boundary.direction();
+                        const double bound =
+                          coulomb ?
+                            friction_law->coefficient() * std::max(-r, 0.) :
+                            friction_law->threshold_at(x);
+                        term += bound * w_t.norm() + r_t * w_t;
+                      }
                     result.contact_local[cell->active_cell_index()] +=
-                      2. * r *
-                      (w_hat[q] * boundary.direction() - boundary.gap(x)) *
-                      fe_face_values.JxW(q);
+                      2. * term * fe_face_values.JxW(q);
                   }
               }
       }

@@ -555,7 +555,6 @@ namespace Signorini
       const auto          &fe          = dof_handler.get_fe();
       const auto          &bc          = input.boundary_conditions;
       const auto          &contact     = input.contact_boundary;
-      const Tensor<1, 2>   nu_c        = contact.direction();
       struct FaceScratch
       {
         FEFaceValues<2> fe_face_values;
@@ -634,15 +633,14 @@ namespace Signorini
                 }
               if (contact.boundary_ids().count(id) != 0)
                 {
-                  // R^ = R^_n nu_c, linear on the edge: int R^_n psi_k exactly
-                  const double r0 =
-                    input.normal_reaction[contact.node_index(edge.vertices[0])];
-                  const double r1 =
-                    input.normal_reaction[contact.node_index(edge.vertices[1])];
-                  edge.projection[0] +=
-                    edge.length / 6. * (2. * r0 + r1) * nu_c;
-                  edge.projection[1] +=
-                    edge.length / 6. * (r0 + 2. * r1) * nu_c;
+                  // R^ = R^_n nu_c + R^_t, linear on the edge: int R^ psi_k
+                  // exactly
+                  const Tensor<1, 2> r0 = input.contact_reaction(
+                    contact.node_index(edge.vertices[0]));
+                  const Tensor<1, 2> r1 = input.contact_reaction(
+                    contact.node_index(edge.vertices[1]));
+                  edge.projection[0] += edge.length / 6. * (2. * r0 + r1);
+                  edge.projection[1] += edge.length / 6. * (r0 + 2. * r1);
                 }
             }
         },

@@ -362,14 +362,12 @@ namespace Signorini
                       load[c] = traction[q][c];
                   if (in_contact)
                     {
-                      double r = 0.;
                       for (const unsigned int v : face->vertex_indices())
                         for (const unsigned int w : cell->vertex_indices())
                           if (cell->vertex_index(w) == face->vertex_index(v))
-                            r += input.normal_reaction[contact.node_index(
-                                   cell->vertex_index(w))] *
-                                 hat_face.shape_value(w, q);
-                      load += r * contact.direction();
+                            load += input.contact_reaction(contact.node_index(
+                                      cell->vertex_index(w))) *
+                                    hat_face.shape_value(w, q);
                     }
                   const double JxW = face_values.JxW(q);
                   for (unsigned int j = 0; j < n; ++j)

@@ -988,11 +988,12 @@ namespace Signorini
             }
           if (contact.boundary_ids().count(id) != 0)
             for (unsigned int k = 0; k < dim; ++k)
-              for (unsigned int c = 0; c < dim; ++c)
-                densities[slot<dim>(face, k, c)] +=
-                  input.normal_reaction[contact.node_index(
-                    mesh.face_vertices[face][k])] *
-                  contact.direction()[c];
+              {
+                const Tensor<1, dim> reaction = input.contact_reaction(
+                  contact.node_index(mesh.face_vertices[face][k]));
+                for (unsigned int c = 0; c < dim; ++c)
+                  densities[slot<dim>(face, k, c)] += reaction[c];
+              }
           for (unsigned int c = 0; c < dim; ++c)
             if (free[face][c])
               for (unsigned int k = 0; k < dim; ++k)

@@ -103,6 +103,53 @@ def contact(lines):
     return "subsection Contact\n" + lines + "end\n"
 
 
+def estimate(binary, source, block, base, rows_of, on_one_and_two_ranks,
+             problems):
+    """The error in constitutive relation with friction (integral
+    condition): mu = 0 gives the frictionless estimate (1e-12), the
+    Coulomb block (mu = 0.3) a bound of the error against a reference two
+    levels finer (effectivity in [1, 1.3], ||U_ref - U^|| <= e), the same
+    on 2 ranks, and the adapted frictional block reaches eps = 2 % in at
+    most three computations."""
+    estimator = ("subsection Error estimator\n  set Enable = true\nend\n"
+                 "set Number of cycles = 2\n")
+    none = rows_of("estimate-none", block, base + estimator)
+    zero = rows_of("estimate-mu0", block, base + estimator + contact(
+        "  set Friction = Coulomb\n  set Friction coefficient = 0\n"))
+    for a, b in zip(none, zero):
+        for key in ["eps", "e", "eps_contact"]:
+            x, y = float(a[key]), float(b[key])
+            if not abs(x - y) <= 1e-12 * abs(x):
+                problems.append(f"estimate, mu = 0, cycle {a['cycle']}: "
+                                f"{key} {y}, frictionless {x}")
+    reference = ("subsection Reference solution\n"
+                 "  set Extra refinements = 2\nend\n")
+    coulomb = on_one_and_two_ranks(
+        "estimate-coulomb", block, base + estimator + reference + contact(
+            "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n"))
+    for row in coulomb:
+        where = f"estimate, Coulomb block, cycle {row['cycle']}"
+        effectivity = float(row["effectivity"])
+        if not (1. <= effectivity <= 1.3
+                and float(row["prager_synge_ratio"]) <= 1.
+                and float(row["eps_contact"]) > 0.):
+            problems.append(f"{where}: effectivity {effectivity}, "
+                            f"Prager-Synge ratio {row['prager_synge_ratio']}"
+                            f", contact share {row['eps_contact']}")
+    print(f"estimate, Coulomb block: eps {[r['eps'] for r in coulomb]}, "
+          f"effectivity {[r['effectivity'] for r in coulomb]}")
+    adaptive = os.path.join(source, "prm", "block-adaptive.prm")
+    adapted = rows_of("estimate-adaptive", adaptive, contact(
+        "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n"),
+        tolerance=1e-8)  # (the example's linear solver tolerance, 1e-10)
+    if not any(float(r["eps"]) <= 0.02 for r in adapted[:3]):
+        problems.append(f"adapted Coulomb block: eps "
+                        f"{[r['eps'] for r in adapted]}")
+    print(f"adapted Coulomb block: cells {[r['cells'] for r in adapted]}, "
+          f"N* {[r['predicted_cells'] for r in adapted]}, eps "
+          f"{[r['eps'] for r in adapted]}")
+
+
 def main():
     binary, source, work = sys.argv[1:4]
     condition = sys.argv[4] if len(sys.argv) > 4 else "pointwise"
@@ -335,6 +382,10 @@ end
         print(f"{name}, fixed point: energy {[r['energy'] for r in other]}, "
               f"Tresca solves {[r['tresca_solves'] for r in other]}, "
               f"contraction {[r['contraction'] for r in other]}")
+
+    if condition == "integral":
+        estimate(binary, source, block, pointwise, rows_of,
+                 on_one_and_two_ranks, problems)
 
     for p in problems:
         print("  " + p)

@@ -11,6 +11,7 @@
 
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/discrete_problem.h>
+#include <signorini/contact/friction_law.h>
 #include <signorini/estimator/stress_reconstruction.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/material.h>
@@ -37,6 +38,11 @@ namespace Signorini
    * (W^_n - g):
    *   eps_E^2 = (||sigma^ - K eps(U^)||^2_E + 2 int_{GC cap dE} R^_n (W^_n -
    * g)) / D  [10] and eps^2 = sum_E eps_E^2 [11].
+   *
+   * With friction the contact term has the bipotential's friction part
+   * (de Saxce; Coorevits, Hild and Hjiaj 2001), 2 int s |W^_t| + R^_t .
+   * W^_t >= 0, s = mu |R^_n| (Coulomb) or the threshold (Tresca), in D as
+   * well.
    */
   template <int dim>
   class ConstitutiveRelationError
@@ -85,7 +91,11 @@ namespace Signorini
 
     /**
      * Estimate the error of (u_h, y) on the problem's mesh; @p
-     * admissible_displacement receives U^.
+     * admissible_displacement receives U^. With friction (@p friction_law
+     * enabled), @p tangential_multiplier holds the tangential multiplier
+     * at each node of GC (zero where it has none), from which R^_t, in the
+     * Coulomb cone or the Tresca disc, is built; e^2 then has the
+     * bipotential's friction term.
      */
     Result
     estimate(const DiscreteContactProblem<dim> &problem,
@@ -95,7 +105,9 @@ namespace Signorini
              const BoundaryConditions<dim>     &boundary_conditions,
              const LA::Vector                  &u_h,
              const Vector<double>              &y,
-             LA::Vector                        &admissible_displacement);
+             LA::Vector                        &admissible_displacement,
+             const FrictionLaw<dim>            *friction_law          = nullptr,
+             const std::vector<Tensor<1, dim>> &tangential_multiplier = {});
 
   private:
     /// Error estimator/Enable

@@ -49,6 +49,19 @@ namespace Signorini
     const Vector<double> &normal_reaction;
     /// The displacement whose stress is in FE equilibrium with the loads.
     const LA::Vector &equilibrated_displacement;
+    /// R^_t at the nodes of GC (friction), or empty.
+    const std::vector<Tensor<1, dim>> &tangential_reaction;
+
+    /// R^ = R^_n nu_c + R^_t at node @p k of GC (a P1 field on GC).
+    Tensor<1, dim>
+    contact_reaction(const unsigned int k) const
+    {
+      Tensor<1, dim> reaction =
+        normal_reaction[k] * contact_boundary.direction();
+      if (!tangential_reaction.empty())
+        reaction += tangential_reaction[k];
+      return reaction;
+    }
   };
 
   /**
