@@ -20,8 +20,8 @@ namespace Signorini
                         "Friction on GC: none (frictionless), Tresca (the "
                         "tangential traction bounded by Friction threshold) "
                         "or Coulomb (bounded by Friction coefficient times "
-                        "the contact pressure); pointwise condition and "
-                        "active set method.");
+                        "the contact pressure); either condition, active set "
+                        "method.");
       prm.declare_entry("Friction coefficient",
                         "0",
                         Patterns::Double(0.),
