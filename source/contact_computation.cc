@@ -659,10 +659,6 @@ namespace Signorini
   {
     const DiscreteContactProblem<dim> problem = contact_problem();
     problem.check_rigid_motions();
-    if (friction_law_.enabled() && problem.n_rigid_motions() > 0)
-      throw InputError("Contact/Friction: the Dirichlet data leave the body "
-                       "free to move; friction on a body held by the contact "
-                       "alone is not implemented yet");
     Timer solve_timer;
     {
       TimerOutput::Scope t(timer, "contact solve");

@@ -551,7 +551,10 @@ namespace Signorini
     // a body held by the contact alone: is there an equilibrium? (needs
     // the load)
     computation.assemble();
-    computation.contact_problem().check_rigid_motions();
+    const DiscreteContactProblem<dim> problem = computation.contact_problem();
+    problem.check_rigid_motions();
+    if (computation.friction_law().enabled())
+      FrictionalActiveSetSolver<dim>::check_applicable(problem);
   }
 
 

@@ -68,13 +68,7 @@ namespace Signorini
       const ContactBoundary<dim> &boundary = problem.boundary();
       const unsigned int          m        = problem.n_constraints();
       const unsigned int          c_star   = boundary.constrained_component();
-      const Tensor<1, dim>        nu       = boundary.direction();
-      for (unsigned int c = 0; c < dim; ++c)
-        if (c != c_star && nu[c] != 0.)
-          throw InputError("Contact/Friction needs Contact/Direction along a "
-                           "coordinate axis (the tangential components are "
-                           "then the other ones)");
-      FrictionRows<dim> rows;
+      FrictionRows<dim>           rows;
       rows.condition = &problem.condition();
       rows.boundary  = &boundary;
       rows.c_star    = c_star;
@@ -431,6 +425,27 @@ namespace Signorini
 
 
   template <int dim>
+  void
+  FrictionalActiveSetSolver<dim>::check_applicable(
+    const DiscreteContactProblem<dim> &problem)
+  {
+    const ContactBoundary<dim> &boundary = problem.boundary();
+    const unsigned int          c_star   = boundary.constrained_component();
+    const Tensor<1, dim>        nu       = boundary.direction();
+    for (unsigned int c = 0; c < dim; ++c)
+      if (c != c_star && nu[c] != 0.)
+        throw InputError("Contact/Friction needs Contact/Direction along a "
+                         "coordinate axis (the tangential components are "
+                         "then the other ones)");
+    if (problem.n_rigid_motions() > 0)
+      throw InputError("Contact/Friction: the Dirichlet data leave the body "
+                       "free to move; friction on a body held by the contact "
+                       "alone is not implemented yet");
+  }
+
+
+
+  template <int dim>
   std::string
   FrictionalActiveSetSolver<dim>::name(const Method method)
   {
@@ -451,6 +466,7 @@ namespace Signorini
     const std::vector<bool>           &initial_active,
     const FrictionState<dim>          *previous) const
   {
+    check_applicable(problem);
     state.fixed_point = {};
     state.contraction_at_solution.reset();
     if (method == Method::fixed_point &&

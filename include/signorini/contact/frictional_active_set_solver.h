@@ -163,6 +163,12 @@ namespace Signorini
                               const double preconditioner_update_fraction = 1.,
                               const bool   check_uniqueness = true);
 
+    /// Throw an InputError naming the parameter if friction cannot be
+    /// applied to @p problem: a contact direction off the coordinate axes,
+    /// or a body the Dirichlet data leave free to move.
+    static void
+    check_applicable(const DiscreteContactProblem<dim> &problem);
+
     /// The name of @p method, for reports.
     static std::string
     name(const Method method);
