@@ -3,7 +3,8 @@
 frictionless one on the same mesh.
 
 prm/block.prm (2D) and prm/block-3d.prm (3D), refined --levels times, one
-computation, pointwise condition, active set method, estimator off; each
+computation, --condition (pointwise by default), active set method,
+estimator off; each
 without friction and with Coulomb mu = 0.3. Prints per mesh: DoFs, the
 active-set iterations, the CG iterations, the seconds of the contact solve
 (linear solver setup + solve) and the ratio frictional / frictionless.
@@ -13,6 +14,7 @@ contraction at the solution (Contact/Uniqueness check, 6 or more solves).
 Usage: bench/friction/friction_bench.py [--repeat 3] [--levels2d 4 5]
                                         [--levels3d 0 1] [--build build]
                                         [--uniqueness-check true|false]
+                                        [--condition pointwise|integral]
 """
 import argparse
 import os
@@ -31,6 +33,8 @@ def main():
     parser.add_argument("--levels3d", type=int, nargs="*", default=[0, 1])
     parser.add_argument("--uniqueness-check", choices=["true", "false"],
                         default="true")
+    parser.add_argument("--condition", choices=["pointwise", "integral"],
+                        default="pointwise")
     args = parser.parse_args()
     exe = runner.executable(args.build)
     print("| mesh | DoFs | frictionless: iterations, CG, s | Coulomb 0.3: "
@@ -40,7 +44,7 @@ def main():
         [("block-3d.prm", "3D block", level) for level in args.levels3d]
     for example, name, level in cases:
         base = dict(single_mesh(level))
-        base["Contact/Condition"] = "pointwise"
+        base["Contact/Condition"] = args.condition
         friction = dict(base)
         friction["Contact/Friction"] = "Coulomb"
         friction["Contact/Friction coefficient"] = "0.3"
