@@ -107,14 +107,6 @@ namespace Signorini
     if (size_predictor->uses_estimate() && !estimator.enabled())
       throw InputError("Mesh adaptation/Strategy: <" + size_predictor->name() +
                        "> needs the error estimator (Error estimator/Enable)");
-    if (computation.friction_law().enabled() && estimator.enabled() &&
-        computation.condition().name() != "integral")
-      throw InputError(
-        "Contact/Friction = " + computation.friction_law().name() +
-        ": the error estimate with friction needs Contact/Condition = "
-        "integral (the pointwise condition's nodal forces give no "
-        "traction in the friction cone); or set Error estimator/Enable = "
-        "false");
     if (adaptation_target.enabled() && !estimator.enabled())
       throw InputError("Mesh adaptation/Target error: needs the error "
                        "estimator (Error estimator/Enable)");
@@ -367,16 +359,6 @@ namespace Signorini
     TimerOutput::Scope                t(timer, "error estimate");
     Timer                             estimate_timer;
     admissible_displacement.reinit(computation.displacement());
-    // with friction, the tangential multiplier at the nodes of GC
-    std::vector<Tensor<1, dim>> tangential_multiplier;
-    if (computation.friction_law().enabled())
-      {
-        const auto &boundary = computation.contact_boundary();
-        const auto &rows     = boundary.multiplier_nodes();
-        tangential_multiplier.assign(boundary.n_nodes(), Tensor<1, dim>());
-        for (unsigned int i = 0; i < rows.size(); ++i)
-          tangential_multiplier[rows[i]] = computation.friction().force[i];
-      }
     estimate  = estimator.estimate(problem,
                                   computation.mapping(),
                                   computation.dof_handler(),
@@ -386,7 +368,7 @@ namespace Signorini
                                   computation.dual(),
                                   admissible_displacement,
                                   &computation.friction_law(),
-                                  tangential_multiplier);
+                                  computation.friction().force);
     estimated = true;
     results.error_estimate(estimate, estimate_timer.wall_time());
   }

@@ -261,6 +261,49 @@ namespace Signorini
 
 
 
+  template <int dim>
+  std::vector<Tensor<1, dim>>
+  ContactCondition<dim>::tangential_reaction(
+    const ContactBoundary<dim> &boundary,
+    const Vector<double>       &normal_reaction,
+    const FrictionData<dim>    &friction,
+    bool                       &changed) const
+  {
+    const unsigned int m = multiplier_node.size();
+    AssertDimension(friction.multiplier.size(), m);
+    std::vector<Tensor<1, dim>> reaction(boundary.n_nodes());
+    for (unsigned int c = 0; c < dim; ++c)
+      {
+        // (multiplier() maps y to Lambda, with -y the rows' forces)
+        Vector<double> force(m);
+        for (unsigned int i = 0; i < m; ++i)
+          force[i] = -friction.multiplier[i][c];
+        const Vector<double> lambda = multiplier(force);
+        for (unsigned int i = 0; i < m; ++i)
+          reaction[multiplier_node[i]][c] = lambda[i];
+      }
+    const bool coulomb = friction.law.type() == FrictionLaw<dim>::Type::coulomb;
+    double     largest = 0., largest_change = 0.;
+    for (unsigned int k = 0; k < reaction.size(); ++k)
+      {
+        const double bound =
+          coulomb ?
+            friction.law.coefficient() * std::max(-normal_reaction[k], 0.) :
+            friction.law.threshold_at(boundary.node(k).position);
+        const double norm = reaction[k].norm();
+        largest           = std::max(largest, norm);
+        if (norm > bound)
+          {
+            largest_change = std::max(largest_change, norm - bound);
+            reaction[k] *= bound / norm;
+          }
+      }
+    changed = largest_change > 1e-8 * largest;
+    return reaction;
+  }
+
+
+
   template class ContactCondition<2>;
   template class ContactCondition<3>;
 } // namespace Signorini

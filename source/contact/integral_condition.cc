@@ -42,7 +42,8 @@ namespace Signorini
   IntegralCondition<dim>::admissible_fields(
     const DiscreteContactProblem<dim> &problem,
     const LA::Vector                  &u_h,
-    const Vector<double>              &y) const
+    const Vector<double>              &y,
+    const FrictionData<dim>           *friction) const
   {
     const auto                  &boundary = problem.boundary();
     AdmissibleContactFields<dim> fields;
@@ -66,6 +67,14 @@ namespace Signorini
       }
     fields.displacement.compress(VectorOperation::add);
     fields.equilibrated_displacement = u_h;
+    // R^_t: the multiplier itself, whose nodal forces are those of u_h
+    // (the projection moves it at the solver's tolerance only)
+    if (friction != nullptr)
+      {
+        bool changed               = false;
+        fields.tangential_reaction = this->tangential_reaction(
+          boundary, fields.normal_reaction, *friction, changed);
+      }
     return fields;
   }
 

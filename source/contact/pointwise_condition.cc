@@ -127,7 +127,8 @@ namespace Signorini
   PointwiseCondition<dim>::admissible_fields(
     const DiscreteContactProblem<dim> &problem,
     const LA::Vector                  &u_h,
-    const Vector<double>              &y) const
+    const Vector<double>              &y,
+    const FrictionData<dim>           *friction) const
   {
     const auto                  &boundary = problem.boundary();
     AdmissibleContactFields<dim> fields;
@@ -141,6 +142,50 @@ namespace Signorini
       }
     fields.displacement              = u_h;
     fields.equilibrated_displacement = u_h;
+    if (friction != nullptr)
+      {
+        // R^_t = M^{-1} f_t in the cone; where it was moved, or R^_n
+        // clipped, U~_h answers the loads and all of R^ (nodal forces M R^;
+        // friction needs the body held by its Dirichlet data)
+        bool changed               = false;
+        fields.tangential_reaction = this->tangential_reaction(
+          boundary, fields.normal_reaction, *friction, changed);
+        // (without friction forces, mu = 0, the frictionless fields below)
+        const bool frictionless =
+          std::all_of(fields.tangential_reaction.begin(),
+                      fields.tangential_reaction.end(),
+                      [](const Tensor<1, dim> &r) { return r.norm() == 0.; });
+        if (!frictionless && (changed || fields.positive_multipliers > 0))
+          {
+            const auto    &mass = boundary.mass_matrix();
+            Vector<double> component(boundary.n_nodes()),
+              forces(boundary.n_nodes());
+            std::vector<std::pair<types::global_dof_index, double>> loads;
+            for (unsigned int c = 0; c < dim; ++c)
+              {
+                for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
+                  component[k] =
+                    fields.normal_reaction[k] * boundary.direction()[c] +
+                    fields.tangential_reaction[k][c];
+                mass.vmult(forces, component);
+                for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
+                  if (forces[k] != 0.)
+                    loads.emplace_back(boundary.node(k).dofs[c], forces[k]);
+              }
+            problem.update_preconditioner(
+              std::vector<bool>(problem.n_constraints(), false));
+            AffineConstraints<double> none;
+            none.close();
+            problem.solve_with_friction(
+              std::vector<bool>(problem.n_constraints(), false),
+              none,
+              loads,
+              {},
+              fields.equilibrated_displacement);
+          }
+        if (!frictionless)
+          return fields;
+      }
     if (fields.positive_multipliers > 0)
       {
         // nodal forces of R^: (M R^_n)_k nu_c

@@ -144,37 +144,22 @@ namespace Signorini
     const auto &boundary = problem.boundary();
 
     // R^, U^ and the displacement whose stress is in FE equilibrium with R^
-    const AdmissibleContactFields<dim> fields =
-      problem.condition().admissible_fields(problem, u_h, y);
-    const Vector<double> &normal_reaction = fields.normal_reaction;
-    result.positive_multipliers           = fields.positive_multipliers;
-    admissible_displacement               = fields.displacement;
-
-    // R^_t: the tangential multiplier's nodal values, projected onto the
-    // Coulomb cone |R^_t| <= mu |R^_n| or the Tresca disc |R^_t| <= s at
-    // each node, where the solver leaves them to its tolerance; P1, it is
-    // then in the cone everywhere on GC (which is convex; for Tresca where
-    // s is concave, its interpolant elsewhere)
     const bool with_friction =
       friction_law != nullptr && friction_law->enabled();
     const bool coulomb =
       with_friction && friction_law->type() == FrictionLaw<dim>::Type::coulomb;
-    std::vector<Tensor<1, dim>> tangential_reaction;
-    if (with_friction)
-      {
-        AssertDimension(tangential_multiplier.size(), boundary.n_nodes());
-        tangential_reaction = tangential_multiplier;
-        for (unsigned int k = 0; k < boundary.n_nodes(); ++k)
-          {
-            const double bound =
-              coulomb ? friction_law->coefficient() *
-                          std::max(-normal_reaction[k], 0.) :
-                        friction_law->threshold_at(boundary.node(k).position);
-            const double norm = tangential_reaction[k].norm();
-            if (norm > bound)
-              tangential_reaction[k] *= bound / norm;
-          }
-      }
+    const std::unique_ptr<const FrictionData<dim>> friction(
+      with_friction ?
+        new FrictionData<dim>{*friction_law, tangential_multiplier} :
+        nullptr);
+    const AdmissibleContactFields<dim> fields =
+      problem.condition().admissible_fields(problem, u_h, y, friction.get());
+    const Vector<double> &normal_reaction = fields.normal_reaction;
+    result.positive_multipliers           = fields.positive_multipliers;
+    admissible_displacement               = fields.displacement;
+
+    const std::vector<Tensor<1, dim>> &tangential_reaction =
+      fields.tangential_reaction;
 
     // sigma^ and the volume terms, on the cells of this rank (which read
     // the dofs of the cells around them)

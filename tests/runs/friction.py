@@ -37,8 +37,8 @@ the same results on 1 and 3 ranks (2D block). The contraction of the fixed
 point at the solution (Contact/Uniqueness check) is in (0, 1) on the
 full-slip strip, proportional to mu there (mu = 0.3 and 1, tau = mu p; on
 the unrefined strip, where the estimate is exact), and the same from both
-routes (2D and 3D strips). With the integral condition, the error
-estimate with friction: mu = 0 gives the frictionless estimate, the Coulomb
+routes (2D and 3D strips). The error estimate with friction: mu = 0
+gives the frictionless estimate, the Coulomb
 block a bound with effectivity in [1, 1.3] against a reference two levels
 finer (1 and 2 ranks alike), and prm/block-adaptive.prm with mu = 0.3
 reaches 2 % in at most three computations.
@@ -109,8 +109,8 @@ def contact(lines):
 
 def estimate(binary, source, block, base, rows_of, on_one_and_two_ranks,
              problems):
-    """The error in constitutive relation with friction (integral
-    condition): mu = 0 gives the frictionless estimate (1e-12), the
+    """The error in constitutive relation with friction: mu = 0 gives the
+    frictionless estimate (1e-12), the
     Coulomb block (mu = 0.3) a bound of the error against a reference two
     levels finer (effectivity in [1, 1.3], ||U_ref - U^|| <= e), the same
     on 2 ranks, and the adapted frictional block reaches eps = 2 % in at
@@ -387,9 +387,8 @@ end
               f"Tresca solves {[r['tresca_solves'] for r in other]}, "
               f"contraction {[r['contraction'] for r in other]}")
 
-    if condition == "integral":
-        estimate(binary, source, block, pointwise, rows_of,
-                 on_one_and_two_ranks, problems)
+    estimate(binary, source, block, pointwise, rows_of, on_one_and_two_ranks,
+             problems)
 
     for p in problems:
         print("  " + p)

@@ -7,6 +7,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/contact/friction_law.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/registry.h>
 
@@ -40,6 +41,19 @@ namespace Signorini
     LA::Vector equilibrated_displacement;
     /// Multiplier nodes where Lambda_i > 0 (the pointwise condition).
     unsigned int positive_multipliers = 0;
+    /// With friction: R^_t at the nodes of GC, a continuous piecewise
+    /// linear field in the Coulomb cone |R^_t| <= mu |R^_n| (the Tresca
+    /// disc at the nodes); empty without.
+    std::vector<Tensor<1, dim>> tangential_reaction;
+  };
+
+  /// Friction's part of a solution, for its admissible fields: the law and
+  /// the tangential multiplier of each row (FrictionState::force).
+  template <int dim>
+  struct FrictionData
+  {
+    const FrictionLaw<dim>            &law;
+    const std::vector<Tensor<1, dim>> &multiplier;
   };
 
   /**
@@ -88,13 +102,15 @@ namespace Signorini
 
     /**
      * The admissible fields (paper sections 5.1 and 5.2) from the solution
-     * @p u_h, y of @p problem (whose condition this is). @p u_h carries no
-     * ghost entries; the displacements returned have its layout.
+     * @p u_h, y of @p problem (whose condition this is), with @p friction
+     * if not null. @p u_h carries no ghost entries; the displacements
+     * returned have its layout.
      */
     virtual AdmissibleContactFields<dim>
     admissible_fields(const DiscreteContactProblem<dim> &problem,
                       const LA::Vector                  &u_h,
-                      const Vector<double>              &y) const = 0;
+                      const Vector<double>              &y,
+                      const FrictionData<dim> *friction = nullptr) const = 0;
 
     /// Number of constraint rows (= multiplier nodes).
     unsigned int
@@ -152,6 +168,20 @@ namespace Signorini
                        const Vector<double>    &normal_residual) const;
 
   protected:
+    /**
+     * R^_t at the nodes of GC: the nodal values of the tangential
+     * multiplier (multiplier() of the rows' tangential forces, component by
+     * component), projected at each node onto the Coulomb cone |R^_t| <= mu
+     * |R^_n| (@p normal_reaction) or the Tresca disc; the cone being
+     * convex, the P1 field is then in it everywhere. Returns in @p changed
+     * whether the projection moved a value by more than 1e-8 of the largest.
+     */
+    std::vector<Tensor<1, dim>>
+    tangential_reaction(const ContactBoundary<dim> &boundary,
+                        const Vector<double>       &normal_reaction,
+                        const FrictionData<dim>    &friction,
+                        bool                       &changed) const;
+
     /// W as sparse rows: (node index, weight); row i belongs to node
     /// multiplier_node[i].
     std::vector<std::vector<std::pair<unsigned int, double>>> weight_rows;

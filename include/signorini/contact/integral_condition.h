@@ -31,9 +31,11 @@ namespace Signorini
      * unchanged), so that W^_n <= g at the nodes.
      */
     AdmissibleContactFields<dim>
-    admissible_fields(const DiscreteContactProblem<dim> &problem,
-                      const LA::Vector                  &u_h,
-                      const Vector<double>              &y) const override;
+    admissible_fields(
+      const DiscreteContactProblem<dim> &problem,
+      const LA::Vector                  &u_h,
+      const Vector<double>              &y,
+      const FrictionData<dim>           *friction = nullptr) const override;
   };
 } // namespace Signorini
 

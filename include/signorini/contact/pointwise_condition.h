@@ -32,12 +32,16 @@ namespace Signorini
      * equilibrium with R^: one more elasticity problem with the loads and
      * R^ gives U~_h, whose stress sigma~_h is. For a body held only by the
      * contact R^ is first rescaled to balance the load on the free rigid
-     * motions (without that no stress is in equilibrium with it).
+     * motions (without that no stress is in equilibrium with it). With
+     * friction R^_t = M^{-1} f_t, projected onto the cone: when that moved
+     * it, U~_h answers the loads and the whole of R^.
      */
     AdmissibleContactFields<dim>
-    admissible_fields(const DiscreteContactProblem<dim> &problem,
-                      const LA::Vector                  &u_h,
-                      const Vector<double>              &y) const override;
+    admissible_fields(
+      const DiscreteContactProblem<dim> &problem,
+      const LA::Vector                  &u_h,
+      const Vector<double>              &y,
+      const FrictionData<dim>           *friction = nullptr) const override;
 
   private:
     /// Sparsity of multiplier_mass.

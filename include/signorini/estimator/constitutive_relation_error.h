@@ -93,9 +93,9 @@ namespace Signorini
      * Estimate the error of (u_h, y) on the problem's mesh; @p
      * admissible_displacement receives U^. With friction (@p friction_law
      * enabled), @p tangential_multiplier holds the tangential multiplier
-     * at each node of GC (zero where it has none), from which R^_t, in the
-     * Coulomb cone or the Tresca disc, is built; e^2 then has the
-     * bipotential's friction term.
+     * of each row of the condition (FrictionState::force), from which the
+     * condition builds R^_t in the Coulomb cone or the Tresca disc; e^2
+     * then has the bipotential's friction term.
      */
     Result
     estimate(const DiscreteContactProblem<dim> &problem,
