@@ -368,7 +368,7 @@ namespace Signorini
                                   computation.dual(),
                                   admissible_displacement,
                                   &computation.friction_law(),
-                                  computation.friction().force);
+                                  &computation.friction());
     estimated = true;
     results.error_estimate(estimate, estimate_timer.wall_time());
   }

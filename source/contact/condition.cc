@@ -262,16 +262,16 @@ namespace Signorini
 
 
   template <int dim>
-  std::vector<Tensor<1, dim>>
-  ContactCondition<dim>::tangential_reaction(
-    const ContactBoundary<dim> &boundary,
-    const Vector<double>       &normal_reaction,
-    const FrictionData<dim>    &friction,
-    bool                       &changed) const
+  bool
+  ContactCondition<dim>::set_tangential_reaction(
+    const ContactBoundary<dim>   &boundary,
+    const FrictionData<dim>      &friction,
+    AdmissibleContactFields<dim> &fields) const
   {
     const unsigned int m = multiplier_node.size();
     AssertDimension(friction.multiplier.size(), m);
-    std::vector<Tensor<1, dim>> reaction(boundary.n_nodes());
+    auto &reaction = fields.tangential_reaction;
+    reaction.assign(boundary.n_nodes(), Tensor<1, dim>());
     for (unsigned int c = 0; c < dim; ++c)
       {
         // (multiplier() maps y to Lambda, with -y the rows' forces)
@@ -283,23 +283,25 @@ namespace Signorini
           reaction[multiplier_node[i]][c] = lambda[i];
       }
     const bool coulomb = friction.law.type() == FrictionLaw<dim>::Type::coulomb;
-    double     largest = 0., largest_change = 0.;
+    fields.friction_bound.assign(boundary.n_nodes(), 0.);
+    double largest = 0., largest_change = 0.;
     for (unsigned int k = 0; k < reaction.size(); ++k)
       {
+        const double pressure = std::max(-fields.normal_reaction[k], 0.);
         const double bound =
-          coulomb ?
-            friction.law.coefficient() * std::max(-normal_reaction[k], 0.) :
-            friction.law.threshold_at(boundary.node(k).position);
-        const double norm = reaction[k].norm();
-        largest           = std::max(largest, norm);
+          coulomb       ? friction.law.coefficient() * pressure :
+          pressure > 0. ? friction.law.threshold_at(boundary.node(k).position) :
+                          0.;
+        fields.friction_bound[k] = bound;
+        const double norm        = reaction[k].norm();
+        largest                  = std::max(largest, norm);
         if (norm > bound)
           {
             largest_change = std::max(largest_change, norm - bound);
             reaction[k] *= bound / norm;
           }
       }
-    changed = largest_change > 1e-8 * largest;
-    return reaction;
+    return largest_change > 1e-8 * largest;
   }
 
 

@@ -663,6 +663,7 @@ namespace Signorini
     state.bound.assign(m, 0.);
     state.displacement.assign(n_nodes, Tensor<1, dim>());
     state.nodal_force.assign(n_nodes, Tensor<1, dim>());
+    state.origin = origin;
     // the sets the preconditioner was last built for
     std::vector<bool> preconditioned_active(m, false),
       preconditioned_stick(m, false);

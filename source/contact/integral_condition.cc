@@ -70,11 +70,7 @@ namespace Signorini
     // R^_t: the multiplier itself, whose nodal forces are those of u_h
     // (the projection moves it at the solver's tolerance only)
     if (friction != nullptr)
-      {
-        bool changed               = false;
-        fields.tangential_reaction = this->tangential_reaction(
-          boundary, fields.normal_reaction, *friction, changed);
-      }
+      this->set_tangential_reaction(boundary, *friction, fields);
     return fields;
   }
 

@@ -147,9 +147,8 @@ namespace Signorini
         // R^_t = M^{-1} f_t in the cone; where it was moved, or R^_n
         // clipped, U~_h answers the loads and all of R^ (nodal forces M R^;
         // friction needs the body held by its Dirichlet data)
-        bool changed               = false;
-        fields.tangential_reaction = this->tangential_reaction(
-          boundary, fields.normal_reaction, *friction, changed);
+        const bool changed =
+          this->set_tangential_reaction(boundary, *friction, fields);
         // (without friction forces, mu = 0, the frictionless fields below)
         const bool frictionless =
           std::all_of(fields.tangential_reaction.begin(),

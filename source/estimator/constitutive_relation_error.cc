@@ -135,7 +135,7 @@ namespace Signorini
     const Vector<double>              &y,
     LA::Vector                        &admissible_displacement,
     const FrictionLaw<dim>            *friction_law,
-    const std::vector<Tensor<1, dim>> &tangential_multiplier)
+    const FrictionState<dim>          *friction_state)
   {
     check_dirichlet_data(problem.constraints(),
                          dof_handler,
@@ -146,12 +146,17 @@ namespace Signorini
     // R^, U^ and the displacement whose stress is in FE equilibrium with R^
     const bool with_friction =
       friction_law != nullptr && friction_law->enabled();
-    const bool coulomb =
-      with_friction && friction_law->type() == FrictionLaw<dim>::Type::coulomb;
+    Assert(!with_friction || friction_state != nullptr, ExcInternalError());
+    std::vector<bool> in_contact;
+    if (with_friction)
+      for (const auto status : friction_state->status)
+        in_contact.push_back(status != FrictionState<dim>::Status::separated);
     const std::unique_ptr<const FrictionData<dim>> friction(
-      with_friction ?
-        new FrictionData<dim>{*friction_law, tangential_multiplier} :
-        nullptr);
+      with_friction ? new FrictionData<dim>{*friction_law,
+                                            friction_state->force,
+                                            in_contact,
+                                            friction_state->origin} :
+                      nullptr);
     const AdmissibleContactFields<dim> fields =
       problem.condition().admissible_fields(problem, u_h, y, friction.get());
     const Vector<double> &normal_reaction = fields.normal_reaction;
@@ -234,8 +239,8 @@ namespace Signorini
                      fe_face_values.quadrature_point_indices())
                   {
                     const Point<dim> &x = fe_face_values.quadrature_point(q);
-                    double            r = 0.;
-                    Tensor<1, dim>    r_t;
+                    double            r = 0., bound = 0.;
+                    Tensor<1, dim>    r_t, origin;
                     for (const auto &[k, i] : face_nodes)
                       {
                         double hat = 0.;
@@ -248,20 +253,22 @@ namespace Signorini
                           hat = fe_face_values.shape_value_component(i, q, 0);
                         r += hat * normal_reaction[k];
                         if (with_friction)
-                          r_t += hat * tangential_reaction[k];
+                          {
+                            r_t += hat * tangential_reaction[k];
+                            bound += hat * fields.friction_bound[k];
+                            origin += hat * friction_state->origin[k];
+                          }
                       }
                     const double w_n  = w_hat[q] * boundary.direction();
                     double       term = r * (w_n - boundary.gap(x));
                     if (with_friction)
                       {
                         // the bipotential's friction part, s |W^_t| + R^_t .
-                        // W^_t >= 0 for R^_t in the cone or the disc
+                        // W^_t >= 0 with |R^_t| <= s, both P1 (s = mu |R^_n|
+                        // for Coulomb); W^_t the slip since the previous
+                        // load step (origin: tangential components only)
                         const Tensor<1, dim> w_t =
-                          w_hat[q] - w_n * boundary.direction();
-                        const double bound =
-                          coulomb ?
-                            friction_law->coefficient() * std::max(-r, 0.) :
-                            friction_law->threshold_at(x);
+                          w_hat[q] - w_n * boundary.direction() - origin;
                         term += bound * w_t.norm() + r_t * w_t;
                       }
                     result.contact_local[cell->active_cell_index()] +=

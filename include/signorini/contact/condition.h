@@ -42,18 +42,26 @@ namespace Signorini
     /// Multiplier nodes where Lambda_i > 0 (the pointwise condition).
     unsigned int positive_multipliers = 0;
     /// With friction: R^_t at the nodes of GC, a continuous piecewise
-    /// linear field in the Coulomb cone |R^_t| <= mu |R^_n| (the Tresca
-    /// disc at the nodes); empty without.
+    /// linear field with |R^_t| <= s, s the P1 field of friction_bound;
+    /// empty without.
     std::vector<Tensor<1, dim>> tangential_reaction;
+    /// With friction: the bound of |R^_t| at the nodes of GC, mu |R^_n|
+    /// (Coulomb) or the threshold at the nodes of the rows in contact and
+    /// zero elsewhere (Tresca, whose discrete law acts there only).
+    std::vector<double> friction_bound;
   };
 
-  /// Friction's part of a solution, for its admissible fields: the law and
-  /// the tangential multiplier of each row (FrictionState::force).
+  /// Friction's part of a solution, for its admissible fields: the law,
+  /// the tangential multiplier of each row (FrictionState::force), whether
+  /// the row is in contact, and where each node of GC slides from
+  /// (FrictionState::origin).
   template <int dim>
   struct FrictionData
   {
     const FrictionLaw<dim>            &law;
     const std::vector<Tensor<1, dim>> &multiplier;
+    const std::vector<bool>           &in_contact;
+    const std::vector<Tensor<1, dim>> &origin;
   };
 
   /**
@@ -169,18 +177,18 @@ namespace Signorini
 
   protected:
     /**
-     * R^_t at the nodes of GC: the nodal values of the tangential
-     * multiplier (multiplier() of the rows' tangential forces, component by
-     * component), projected at each node onto the Coulomb cone |R^_t| <= mu
-     * |R^_n| (@p normal_reaction) or the Tresca disc; the cone being
-     * convex, the P1 field is then in it everywhere. Returns in @p changed
-     * whether the projection moved a value by more than 1e-8 of the largest.
+     * R^_t at the nodes of GC (in @p fields, whose normal_reaction is set):
+     * the nodal values of the tangential multiplier (multiplier() of the
+     * rows' tangential forces, component by component), projected at each
+     * node onto the disc of AdmissibleContactFields::friction_bound, which
+     * it sets too; the P1 field |R^_t| is then below the P1 field of the
+     * bounds everywhere. Returns whether the projection moved a value by
+     * more than 1e-8 of the largest.
      */
-    std::vector<Tensor<1, dim>>
-    tangential_reaction(const ContactBoundary<dim> &boundary,
-                        const Vector<double>       &normal_reaction,
-                        const FrictionData<dim>    &friction,
-                        bool                       &changed) const;
+    bool
+    set_tangential_reaction(const ContactBoundary<dim>   &boundary,
+                            const FrictionData<dim>      &friction,
+                            AdmissibleContactFields<dim> &fields) const;
 
     /// W as sparse rows: (node index, weight); row i belongs to node
     /// multiplier_node[i].

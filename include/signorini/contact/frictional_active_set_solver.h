@@ -47,6 +47,9 @@ namespace Signorini
     std::vector<Tensor<1, dim>> weighted_slip;
     /// Per node of GC: the tangential displacement.
     std::vector<Tensor<1, dim>> displacement;
+    /// Per node of GC: where it slides from (the previous load step's
+    /// tangential displacement; zero in a static problem).
+    std::vector<Tensor<1, dim>> origin;
     /// The slip accumulated along the load path: the sum of the slips of
     /// the steps in which the node slid (the slip itself in a static
     /// problem).

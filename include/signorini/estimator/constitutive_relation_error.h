@@ -12,6 +12,7 @@
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/contact/friction_law.h>
+#include <signorini/contact/frictional_active_set_solver.h>
 #include <signorini/estimator/stress_reconstruction.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/material.h>
@@ -92,10 +93,10 @@ namespace Signorini
     /**
      * Estimate the error of (u_h, y) on the problem's mesh; @p
      * admissible_displacement receives U^. With friction (@p friction_law
-     * enabled), @p tangential_multiplier holds the tangential multiplier
-     * of each row of the condition (FrictionState::force), from which the
-     * condition builds R^_t in the Coulomb cone or the Tresca disc; e^2
-     * then has the bipotential's friction term.
+     * enabled), @p friction_state is the solution's: from its tangential
+     * multipliers the condition builds R^_t in the Coulomb cone or the
+     * Tresca disc, and e^2 has the bipotential's friction term on the
+     * slip since the previous load step.
      */
     Result
     estimate(const DiscreteContactProblem<dim> &problem,
@@ -106,8 +107,8 @@ namespace Signorini
              const LA::Vector                  &u_h,
              const Vector<double>              &y,
              LA::Vector                        &admissible_displacement,
-             const FrictionLaw<dim>            *friction_law          = nullptr,
-             const std::vector<Tensor<1, dim>> &tangential_multiplier = {});
+             const FrictionLaw<dim>            *friction_law   = nullptr,
+             const FrictionState<dim>          *friction_state = nullptr);
 
   private:
     /// Error estimator/Enable
