@@ -282,15 +282,18 @@ namespace Signorini
         for (unsigned int i = 0; i < m; ++i)
           reaction[multiplier_node[i]][c] = lambda[i];
       }
+    std::vector<bool> in_contact(boundary.n_nodes(), false);
+    for (unsigned int i = 0; i < m; ++i)
+      in_contact[multiplier_node[i]] = friction.in_contact[i];
     const bool coulomb = friction.law.type() == FrictionLaw<dim>::Type::coulomb;
     fields.friction_bound.assign(boundary.n_nodes(), 0.);
     double largest = 0., largest_change = 0.;
     for (unsigned int k = 0; k < reaction.size(); ++k)
       {
-        const double pressure = std::max(-fields.normal_reaction[k], 0.);
         const double bound =
-          coulomb       ? friction.law.coefficient() * pressure :
-          pressure > 0. ? friction.law.threshold_at(boundary.node(k).position) :
+          coulomb ? friction.law.coefficient() *
+                      std::max(-fields.normal_reaction[k], 0.) :
+          in_contact[k] ? friction.law.threshold_at(boundary.node(k).position) :
                           0.;
         fields.friction_bound[k] = bound;
         const double norm        = reaction[k].norm();

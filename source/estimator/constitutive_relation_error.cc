@@ -146,7 +146,9 @@ namespace Signorini
     // R^, U^ and the displacement whose stress is in FE equilibrium with R^
     const bool with_friction =
       friction_law != nullptr && friction_law->enabled();
-    Assert(!with_friction || friction_state != nullptr, ExcInternalError());
+    AssertThrow(!with_friction || friction_state != nullptr,
+                ExcMessage("the error estimate with friction needs the "
+                           "friction state of the solution"));
     std::vector<bool> in_contact;
     if (with_friction)
       for (const auto status : friction_state->status)
