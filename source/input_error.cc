@@ -599,8 +599,30 @@ namespace Signorini
                              "> is not a valid name");
           double number = 0;
           if (!parse_finite_double(value, number))
-            throw InputError(name + "the value <" + value + "> of " + constant +
-                             " is not a finite number " + double_range);
+            {
+              // muParser takes constants as numbers only: an expression
+              // (0.1*1e6, pi/2) is not evaluated
+              std::string word = value;
+              for (char &c : word)
+                c = std::tolower(static_cast<unsigned char>(c));
+              const std::string unsigned_word = word.substr(
+                std::min(word.find_first_not_of("+-"), word.size()));
+              const bool not_finite = unsigned_word == "nan" ||
+                                      unsigned_word == "inf" ||
+                                      unsigned_word == "infinity";
+              const bool expression =
+                !not_finite &&
+                (value.find_first_of("*/()^") != std::string::npos ||
+                 word.find_first_of("abcdfghijklmnopqrstuvwxyz_") !=
+                   std::string::npos);
+              throw InputError(
+                name + "the value <" + value + "> of " + constant +
+                (expression ?
+                   " is an expression: constants take plain numbers "
+                   "(write the number, e.g. 1.5e5, or put the expression "
+                   "into Function expression)" :
+                   " is not a finite number " + double_range));
+            }
           if (predefined.count(constant) != 0)
             throw InputError(name + "<" + constant +
                              "> is a predefined constant of the function "
