@@ -361,13 +361,32 @@ namespace Signorini
     constraints.merge(base_constraints,
                       AffineConstraints<double>::no_conflicts_allowed);
     constraints.close();
+    return linear_solver.solve(constraints, load_with(forces), u, 0., springs);
+  }
+
+
+
+  template <int dim>
+  LA::Vector
+  DiscreteContactProblem<dim>::load_with(
+    const std::vector<std::pair<types::global_dof_index, double>> &forces) const
+  {
     LA::Vector     load(load_vector);
     const IndexSet owned = load.locally_owned_elements();
     for (const auto &[dof, value] : forces)
       if (owned.is_element(dof))
         load[dof] += value;
     load.compress(VectorOperation::add);
-    return linear_solver.solve(constraints, load, u, 0., springs);
+    return load;
+  }
+
+
+
+  template <int dim>
+  const AffineConstraints<double> &
+  DiscreteContactProblem<dim>::free_body_constraints() const
+  {
+    return n_rigid_motions() > 0 ? supported_constraints : base_constraints;
   }
 
 
@@ -414,9 +433,23 @@ namespace Signorini
     if (forces.size() > 0)
       contact_boundary.add_normal_forces(forces, load);
     load.compress(VectorOperation::add);
-    return linear_solver.solve(n_rigid_motions() > 0 ? supported_constraints :
-                                                       base_constraints,
+    return linear_solver.solve(free_body_constraints(),
                                load,
+                               u,
+                               relative_tolerance);
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  DiscreteContactProblem<dim>::solve_with_nodal_forces(
+    const std::vector<std::pair<types::global_dof_index, double>> &forces,
+    LA::Vector                                                    &u,
+    const double relative_tolerance) const
+  {
+    return linear_solver.solve(free_body_constraints(),
+                               load_with(forces),
                                u,
                                relative_tolerance);
   }

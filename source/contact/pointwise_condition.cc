@@ -173,14 +173,8 @@ namespace Signorini
               }
             problem.update_preconditioner(
               std::vector<bool>(problem.n_constraints(), false));
-            AffineConstraints<double> none;
-            none.close();
-            problem.solve_with_friction(
-              std::vector<bool>(problem.n_constraints(), false),
-              none,
-              loads,
-              {},
-              fields.equilibrated_displacement);
+            problem.solve_with_nodal_forces(loads,
+                                            fields.equilibrated_displacement);
           }
         if (!frictionless)
           return fields;

@@ -145,6 +145,14 @@ namespace Signorini
                              LA::Vector           &u,
                              const double relative_tolerance = 0.) const;
 
+    /// The same with the nodal forces @p forces (dof, value; every rank
+    /// may list all of them) in any direction.
+    unsigned int
+    solve_with_nodal_forces(
+      const std::vector<std::pair<types::global_dof_index, double>> &forces,
+      LA::Vector                                                    &u,
+      const double relative_tolerance = 0.) const;
+
     /// Solve K u = F - B^T y under the base constraints (and the supports).
     unsigned int
     solve_with_dual(const Vector<double> &y,
@@ -194,6 +202,15 @@ namespace Signorini
     constraint_scale(const LA::Vector &u) const;
 
   private:
+    /// F plus the nodal @p forces (dof, value) on the dofs of this rank.
+    LA::Vector
+    load_with(const std::vector<std::pair<types::global_dof_index, double>>
+                &forces) const;
+
+    /// The base constraints, with the supports when rigid motions are free.
+    const AffineConstraints<double> &
+    free_body_constraints() const;
+
     const LA::SparseMatrix          &stiffness_matrix;
     const LA::Vector                &load_vector;
     const AffineConstraints<double> &base_constraints;
