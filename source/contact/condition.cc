@@ -282,9 +282,9 @@ namespace Signorini
         for (unsigned int i = 0; i < m; ++i)
           reaction[multiplier_node[i]][c] = lambda[i];
       }
-    std::vector<bool> in_contact(boundary.n_nodes(), false);
+    std::vector<bool> has_row(boundary.n_nodes(), false);
     for (unsigned int i = 0; i < m; ++i)
-      in_contact[multiplier_node[i]] = friction.in_contact[i];
+      has_row[multiplier_node[i]] = true;
     const bool coulomb = friction.law.type() == FrictionLaw<dim>::Type::coulomb;
     fields.friction_bound.assign(boundary.n_nodes(), 0.);
     double largest = 0., largest_change = 0.;
@@ -293,8 +293,8 @@ namespace Signorini
         const double bound =
           coulomb ? friction.law.coefficient() *
                       std::max(-fields.normal_reaction[k], 0.) :
-          in_contact[k] ? friction.law.threshold_at(boundary.node(k).position) :
-                          0.;
+          has_row[k] ? friction.law.threshold_at(boundary.node(k).position) :
+                       0.;
         fields.friction_bound[k] = bound;
         const double norm        = reaction[k].norm();
         largest                  = std::max(largest, norm);

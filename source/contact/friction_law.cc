@@ -18,7 +18,8 @@ namespace Signorini
                         "none",
                         Patterns::Selection("none|Tresca|Coulomb"),
                         "Friction on GC: none (frictionless), Tresca (the "
-                        "tangential traction bounded by Friction threshold) "
+                        "tangential traction bounded by Friction threshold, "
+                        "in contact or not: the classical convex problem) "
                         "or Coulomb (bounded by Friction coefficient times "
                         "the contact pressure); either condition, active set "
                         "method.");

@@ -125,28 +125,29 @@ namespace Signorini
         springs;
     };
 
-    /// The step's system: rows in contact stick at @p origin (per node of
-    /// GC) or slide under the multiplier @p slip_force, with the spring
+    /// The step's system: the rows the law acts on (@p rubbing) stick at
+    /// @p origin (per node of GC) or slide under the multiplier
+    /// @p slip_force, with the spring
     /// k (I - n n^T), n = slip_force / |slip_force|, on the weighted slip
     /// (W^T k (I - n n^T) W in K, and its part in origin with the forces
     /// W^T slip_force).
     template <int dim>
     FrictionSystem
     friction_system(const FrictionRows<dim>           &rows,
-                    const std::vector<bool>           &active,
+                    const std::vector<bool>           &rubbing,
                     const std::vector<bool>           &stick,
                     const std::vector<Tensor<1, dim>> &slip_force,
                     const std::vector<double>         &spring,
                     const std::vector<Tensor<1, dim>> &origin)
     {
       FrictionSystem     system;
-      const unsigned int m = active.size();
+      const unsigned int m = rubbing.size();
       for (unsigned int c = 0; c < dim; ++c)
         {
           std::vector<bool> sticking(m, false);
           bool              any = false;
           for (unsigned int i = 0; i < m; ++i)
-            if (active[i] && stick[i] && rows.sliding[i][c])
+            if (rubbing[i] && stick[i] && rows.sliding[i][c])
               {
                 sticking[i] = any = true;
                 system.stick_dofs.push_back(rows.dof(rows.row_node[i], c));
@@ -165,7 +166,7 @@ namespace Signorini
         }
       for (unsigned int i = 0; i < m; ++i)
         {
-          if (!active[i] || !rows.frictional[i] || stick[i])
+          if (!rubbing[i] || !rows.frictional[i] || stick[i])
             continue;
           const auto  &row          = rows.condition->weight_row(i);
           const double norm_squared = slip_force[i].norm_square();
@@ -634,6 +635,19 @@ namespace Signorini
     };
 
     const double load_scale = problem.load().linfty_norm();
+    // the rows the law acts on: those in contact, and for Tresca with its
+    // own bounds (not the fixed point's mu y) all of GC, in contact or not:
+    // the classical convex problem, whose friction term int s |u_t| has a
+    // unique minimiser (the law at the rows in contact only may have no
+    // solution: a block sheared by Dirichlet data, doc/theory.md)
+    const bool everywhere =
+      given_bounds == nullptr && law.type() == FrictionLaw<dim>::Type::tresca;
+    const auto law_acts = [everywhere](const std::vector<bool> &in_contact) {
+      std::vector<bool> rubbing(in_contact);
+      if (everywhere)
+        rubbing.assign(rubbing.size(), true);
+      return rubbing;
+    };
 
     typename ContactSolver<dim>::Report report;
     std::vector<bool>                   active = (initial_active.size() == m) ?
@@ -674,15 +688,16 @@ namespace Signorini
       {
         progress.report(
           [&]() { return "iteration " + std::to_string(report.iterations); });
-        const FrictionSystem system =
-          friction_system(rows, active, stick, slip_force, spring, origin);
+        const std::vector<bool> rubbing = law_acts(active);
+        const FrictionSystem    system =
+          friction_system(rows, rubbing, stick, slip_force, spring, origin);
         // (the sticking rows' tangential dofs are held like the active
         // normal rows: without them in the preconditioner, CG took 4 to 9
         // times the iterations of a frictionless solve)
         unsigned int drift = 0;
         for (unsigned int i = 0; i < m; ++i)
           drift += (active[i] != preconditioned_active[i] ||
-                    (active[i] && stick[i] != preconditioned_stick[i])) ?
+                    (rubbing[i] && stick[i] != preconditioned_stick[i])) ?
                      1 :
                      0;
         if (drift > preconditioner_update_fraction * m)
@@ -714,7 +729,7 @@ namespace Signorini
             {
               std::vector<bool> in_contact(m);
               for (unsigned int i = 0; i < m; ++i)
-                in_contact[i] = active[i] && sliding[i][c];
+                in_contact[i] = rubbing[i] && sliding[i][c];
               Vector<double> force_c(n_nodes), slip_c(n_nodes);
               for (unsigned int k = 0; k < n_nodes; ++k)
                 {
@@ -742,19 +757,21 @@ namespace Signorini
         const double         tol_slack = 1e-9 * problem.constraint_scale(u);
         const double         tol_y     = 1e-9 * max_norm(y);
         std::vector<bool>    next_active(m), next_stick(m, true);
+        for (unsigned int i = 0; i < m; ++i)
+          next_active[i] =
+            active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
+        const std::vector<bool>     next_rubbing = law_acts(next_active);
         std::vector<Tensor<1, dim>> next_force(m);
         std::vector<double>         next_spring(m, 0.);
         double                      largest_bound = 0., change = 0.;
         for (unsigned int i = 0; i < m; ++i)
           {
-            next_active[i] =
-              active[i] ? (y[i] >= -tol_y) : (slack[i] < -tol_slack);
             const Tensor<1, dim> &force  = multiplier[i];
             const Tensor<1, dim> &slip   = weighted_slip[i];
             const double          weight = rows.weight[i];
             const double          s      = bound(i);
             largest_bound                = std::max(largest_bound, s * weight);
-            state.status[i]              = !active[i] ?
+            state.status[i]              = !rubbing[i] ?
                                              Status::separated :
                                              (stick[i] ? Status::stick : Status::slip);
             state.force[i]               = force;
@@ -765,7 +782,7 @@ namespace Signorini
               (state.status[i] == Status::slip ? state.slip[i] :
                                                  Tensor<1, dim>());
             state.bound[i] = s;
-            if (!next_active[i] || !rows.frictional[i])
+            if (!next_rubbing[i] || !rows.frictional[i])
               continue;
             const double         c_i = rows.scale[i];
             const Tensor<1, dim> xi  = force - c_i * slip;
@@ -774,7 +791,7 @@ namespace Signorini
             // (in 2D, where n is a sign, the plain step let a band of nodes
             // by the stick zone of a Hertz contact reverse at every step,
             // a cycle of period 2)
-            if (!next_stick[i] && !stick[i] && active[i] &&
+            if (!next_stick[i] && !stick[i] && rubbing[i] &&
                 xi * slip_force[i] < 0.)
               next_stick[i] = true;
             if (!next_stick[i])
@@ -785,7 +802,7 @@ namespace Signorini
                 // |xi| = s it holds the row across n)
                 next_force[i]  = s * xi / xi.norm();
                 next_spring[i] = std::min(s * c_i / (xi.norm() - s), 1e3 * c_i);
-                if (!stick[i] && active[i])
+                if (!stick[i] && rubbing[i])
                   change =
                     std::max(change, (next_force[i] - force).norm() * weight);
                 else

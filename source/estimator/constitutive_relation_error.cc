@@ -149,14 +149,9 @@ namespace Signorini
     AssertThrow(!with_friction || friction_state != nullptr,
                 ExcMessage("the error estimate with friction needs the "
                            "friction state of the solution"));
-    std::vector<bool> in_contact;
-    if (with_friction)
-      for (const auto status : friction_state->status)
-        in_contact.push_back(status != FrictionState<dim>::Status::separated);
     const std::unique_ptr<const FrictionData<dim>> friction(
       with_friction ? new FrictionData<dim>{*friction_law,
                                             friction_state->force,
-                                            in_contact,
                                             friction_state->origin} :
                       nullptr);
     const AdmissibleContactFields<dim> fields =

@@ -136,10 +136,8 @@ def estimate(binary, source, block, base, rows_of, on_one_and_two_ranks,
         "estimate-coulomb", block, base + estimator + reference + contact(
             "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n"),
         (2,) if full else ())
-    # (Tresca: the threshold acts at the rows in contact only, like the
-    # discrete law; on all of GC the separated part's slip made the
-    # effectivity grow to 3.7 on this block, and with the nodes where R^_n
-    # < 0 for the pointwise condition, 1.45)
+    # (Tresca: the classical law, on every row of GC in contact or not;
+    # every node sticks at this threshold)
     tresca = rows_of("estimate-tresca", block, base + estimator + reference
                      + contact("  set Friction = Tresca\n"
                                "  subsection Friction threshold\n"
@@ -170,6 +168,94 @@ def estimate(binary, source, block, base, rows_of, on_one_and_two_ranks,
     print(f"adapted Coulomb block: cells {[r['cells'] for r in adapted]}, "
           f"N* {[r['predicted_cells'] for r in adapted]}, eps "
           f"{[r['eps'] for r in adapted]}")
+
+
+SHEARED = """
+set Number of cycles = 2
+subsection Linear solver
+  set Relative tolerance = 1e-13
+end
+subsection Boundary conditions
+  subsection Dirichlet 1
+    set Boundary ids        = 3
+    set Function expression = 0.1; {v}
+  end
+  subsection Traction 1
+    set Boundary ids =
+  end
+  subsection Traction 2
+    set Boundary ids =
+  end
+end
+subsection Error estimator
+  set Enable = false
+end
+"""
+
+
+def sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems):
+    """Tresca on the block held and moved by its top only, (0.1, v): the
+    classical convex problem, whose friction acts on all of GC in contact
+    or not, converges where the law at the nodes in contact only had no
+    solution (v = -0.01: a separated node sliding with the body
+    penetrated, and pressed, it stuck and was pulled). At threshold 1 every
+    node of GC sticks, the separated ones too (no slip in the contact
+    table); at 0.05 some slide (the same on 2 ranks); pressed down to v = -0.1, where every node
+    is in contact and sticks, the energy is that of the block glued to the
+    foundation by Dirichlet data."""
+    def tresca(threshold):
+        return contact("  set Friction = Tresca\n"
+                       "  subsection Friction threshold\n"
+                       f"    set Function expression = {threshold}\n"
+                       "  end\n")
+    held = rows_of("sheared-tresca-1", block,
+                   SHEARED.format(v=-0.01) + tresca(1))
+    for row in held:
+        if not (row["stick_nodes"] == row["contact_nodes"]
+                and int(row["active_nodes"]) < int(row["contact_nodes"])):
+            problems.append(f"sheared, threshold 1, cycle {row['cycle']}: "
+                            f"{row['stick_nodes']} of {row['contact_nodes']} "
+                            f"nodes stick, {row['active_nodes']} in contact")
+        table = read(os.path.join(work, "sheared-tresca-1",
+                                  f"contact-{int(row['cycle']):02d}.csv"))
+        moved = [n for n in table if abs(float(n["slip_x"])) > 1e-12]
+        if moved:
+            problems.append(f"sheared, threshold 1, cycle {row['cycle']}: "
+                            f"{len(moved)} nodes slip")
+    sliding = on_one_and_two_ranks("sheared-tresca-0.05", block,
+                                   SHEARED.format(v=-0.01) + tresca(0.05))
+    if not all(int(r["slip_nodes"]) > 0 for r in sliding):
+        problems.append(f"sheared, threshold 0.05: slip nodes "
+                        f"{[r['slip_nodes'] for r in sliding]}")
+    pressed = rows_of("sheared-pressed", block,
+                      SHEARED.format(v=-0.1) + tresca(1))
+    glued = os.path.join(work, "sheared-glued")
+    run(binary, block, glued, 1, SHEARED.format(v=-0.1) + """
+subsection Contact
+  set Boundary ids =
+end
+subsection Boundary conditions
+  subsection Dirichlet 2
+    set Boundary ids        = 2
+    set Components          = x, y
+    set Function expression = 0; 0
+  end
+end
+""")
+    for a, b in zip(pressed, read(os.path.join(glued, "statistics.csv"))):
+        e1, e2 = float(a["energy"]), float(b["energy"])
+        if not (a["stick_nodes"] == a["active_nodes"] == a["contact_nodes"]
+                and abs(e1 - e2) <= 1e-10 * abs(e2)):
+            problems.append(f"sheared, pressed, cycle {a['cycle']}: energy "
+                            f"{e1} against the glued block's {e2}, "
+                            f"{a['stick_nodes']} stick, {a['active_nodes']} "
+                            f"in contact of {a['contact_nodes']}")
+    print(f"sheared block, Tresca: threshold 1 "
+          f"{[r['stick_nodes'] for r in held]} stick of "
+          f"{[r['contact_nodes'] for r in held]} "
+          f"({[r['active_nodes'] for r in held]} in contact), threshold 0.05 "
+          f"{[r['slip_nodes'] for r in sliding]} slip; pressed: energies "
+          f"{[r['energy'] for r in pressed]}")
 
 
 def main():
@@ -342,6 +428,8 @@ end
               f"{[r['slip_nodes'] for r in one]}, energy "
               f"{[r['energy'] for r in one]}")
         return one
+
+    sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems)
 
     # the Coulomb block in 2D and 3D on 1 and 2 ranks
     coulomb = pointwise + contact(

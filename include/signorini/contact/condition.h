@@ -46,21 +46,20 @@ namespace Signorini
     /// empty without.
     std::vector<Tensor<1, dim>> tangential_reaction;
     /// With friction: the bound of |R^_t| at the nodes of GC, mu |R^_n|
-    /// (Coulomb) or the threshold at the nodes of the rows in contact and
-    /// zero elsewhere (Tresca, whose discrete law acts there only).
+    /// (Coulomb) or the threshold at the nodes of the rows, in contact or
+    /// not, and zero at a node without one (Tresca, whose discrete law
+    /// acts on every row).
     std::vector<double> friction_bound;
   };
 
   /// Friction's part of a solution, for its admissible fields: the law,
-  /// the tangential multiplier of each row (FrictionState::force), whether
-  /// the row is in contact, and where each node of GC slides from
-  /// (FrictionState::origin).
+  /// the tangential multiplier of each row (FrictionState::force) and
+  /// where each node of GC slides from (FrictionState::origin).
   template <int dim>
   struct FrictionData
   {
     const FrictionLaw<dim>            &law;
     const std::vector<Tensor<1, dim>> &multiplier;
-    const std::vector<bool>           &in_contact;
     const std::vector<Tensor<1, dim>> &origin;
   };
 
