@@ -170,6 +170,21 @@ def estimate(binary, source, block, base, rows_of, on_one_and_two_ranks,
           f"{[r['eps'] for r in adapted]}")
 
 
+# no contact: the bottom (GC) glued by Dirichlet data
+GLUED = """
+subsection Contact
+  set Boundary ids =
+  set Friction     = none
+end
+subsection Boundary conditions
+  subsection Dirichlet 2
+    set Boundary ids        = 2
+    set Components          = x, y
+    set Function expression = 0; 0
+  end
+end
+"""
+
 SHEARED = """
 set Number of cycles = 2
 subsection Linear solver
@@ -230,18 +245,7 @@ def sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems):
     pressed = rows_of("sheared-pressed", block,
                       SHEARED.format(v=-0.1) + tresca(1))
     glued = os.path.join(work, "sheared-glued")
-    run(binary, block, glued, 1, SHEARED.format(v=-0.1) + """
-subsection Contact
-  set Boundary ids =
-end
-subsection Boundary conditions
-  subsection Dirichlet 2
-    set Boundary ids        = 2
-    set Components          = x, y
-    set Function expression = 0; 0
-  end
-end
-""")
+    run(binary, block, glued, 1, SHEARED.format(v=-0.1) + GLUED)
     for a, b in zip(pressed, read(os.path.join(glued, "statistics.csv"))):
         e1, e2 = float(a["energy"]), float(b["energy"])
         if not (a["stick_nodes"] == a["active_nodes"] == a["contact_nodes"]
@@ -360,15 +364,7 @@ def main():
 
     # bonded: mu = 1e6 against the strip glued by Dirichlet data
     bonded = STICK.format(tau=0.06)
-    glued = bonded + contact("  set Boundary ids = \n  set Friction = none\n") + """
-subsection Boundary conditions
-  subsection Dirichlet 2
-    set Boundary ids        = 2
-    set Components          = x, y
-    set Function expression = 0; 0
-  end
-end
-"""
+    glued = bonded + GLUED
     large = rows_of("bonded-mu", strip,
                     bonded + contact("  set Friction coefficient = 1e6\n"))
     exact("bonded, mu = 1e6", large, "stick_nodes")
