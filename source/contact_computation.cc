@@ -129,6 +129,7 @@ namespace Signorini
         friction_max_iterations = prm.get_integer("Maximum iterations");
         friction_preconditioner_update =
           prm.get_double("Preconditioner update fraction");
+        friction_inexact_tolerance = prm.get_double("Inexact tolerance");
         prm.leave_subsection();
         prm.leave_subsection();
         friction_method = FrictionalActiveSetSolver<dim>::parse_method(prm);
@@ -673,7 +674,8 @@ namespace Signorini
                                 elasticity_solver.uses_direct_solver() ?
                                   1. :
                                   friction_preconditioner_update,
-                                friction_uniqueness_check)
+                                friction_uniqueness_check,
+                                friction_inexact_tolerance)
                                 .solve(problem,
                                        solution,
                                        dual_solution,

@@ -321,6 +321,8 @@ namespace Signorini
     unsigned int friction_max_iterations = 100;
     /// Contact/Active set/Preconditioner update fraction (the same).
     double friction_preconditioner_update = 0.02;
+    /// Contact/Active set/Inexact tolerance (the same).
+    double friction_inexact_tolerance = 1e-6;
     /// Contact/Friction solver.
     typename FrictionalActiveSetSolver<dim>::Method friction_method =
       FrictionalActiveSetSolver<dim>::Method::semismooth_newton;

@@ -58,7 +58,8 @@ namespace Signorini
                       "1e-6",
                       Patterns::Double(0., 1.),
                       "Relative CG tolerance of the solves while the active "
-                      "set still changes (the final solve uses Linear "
+                      "set (with friction: the stick and slip sets too) "
+                      "still changes (the final solves use Linear "
                       "solver/Relative tolerance; 0: every solve at that "
                       "accuracy).");
     prm.declare_entry("Preconditioner update fraction",

@@ -349,8 +349,9 @@ namespace Signorini
     const std::vector<std::pair<types::global_dof_index, double>> &forces,
     const std::vector<
       std::tuple<types::global_dof_index, types::global_dof_index, double>>
-               &springs,
-    LA::Vector &u) const
+                &springs,
+    LA::Vector  &u,
+    const double relative_tolerance) const
   {
     AffineConstraints<double> constraints;
     contact_condition.add_active_constraints(active,
@@ -361,7 +362,8 @@ namespace Signorini
     constraints.merge(base_constraints,
                       AffineConstraints<double>::no_conflicts_allowed);
     constraints.close();
-    return linear_solver.solve(constraints, load_with(forces), u, 0., springs);
+    return linear_solver.solve(
+      constraints, load_with(forces), u, relative_tolerance, springs);
   }
 
 

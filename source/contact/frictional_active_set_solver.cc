@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace Signorini
@@ -415,12 +416,14 @@ namespace Signorini
     const unsigned int      max_iterations,
     const Method            method,
     const double            preconditioner_update_fraction,
-    const bool              check_uniqueness)
+    const bool              check_uniqueness,
+    const double            inexact_tolerance)
     : law(law)
     , max_iterations(max_iterations)
     , method(method)
     , preconditioner_update_fraction(preconditioner_update_fraction)
     , check_uniqueness(check_uniqueness)
+    , inexact_tolerance(inexact_tolerance)
   {}
 
 
@@ -683,6 +686,12 @@ namespace Signorini
       preconditioned_stick(m, false);
     Progress progress("frictional active set", u.get_mpi_communicator());
     double   previous_change = std::numeric_limits<double>::infinity();
+    // while the sets change, inexact solves (as ActiveSetSolver); once they
+    // hold, or a pair of sets repeats (inexact solves may cycle), every
+    // solve at the linear solver's tolerance, and only these converge
+    // (without rows the first solve is the last)
+    bool exact = (inexact_tolerance == 0. || m == 0);
+    std::set<std::pair<std::vector<bool>, std::vector<bool>>> visited;
 
     while (true)
       {
@@ -706,8 +715,14 @@ namespace Signorini
             preconditioned_active = active;
             preconditioned_stick  = stick;
           }
-        report.linear_iterations += problem.solve_with_friction(
-          active, system.stick, system.forces, system.springs, u);
+        const bool solved_exactly = exact;
+        report.linear_iterations +=
+          problem.solve_with_friction(active,
+                                      system.stick,
+                                      system.forces,
+                                      system.springs,
+                                      u,
+                                      exact ? 0. : inexact_tolerance);
         ++report.linear_solves;
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
@@ -820,15 +835,19 @@ namespace Signorini
         // the sets settle: its change is round-off, which at 1e-14 decided
         // by the rank count; 1e-12 is safely above)
         const double round_off = (given_bounds != nullptr ? 1e-12 : 1e-14);
-        if (same_sets &&
+        if (solved_exactly && same_sets &&
             (change <= round_off * force_scale ||
              (change <= 1e-8 * force_scale && change >= 0.5 * previous_change)))
           {
             report.converged = true;
             break;
           }
-        previous_change =
-          same_sets ? change : std::numeric_limits<double>::infinity();
+        previous_change = (solved_exactly && same_sets) ?
+                            change :
+                            std::numeric_limits<double>::infinity();
+        if (!exact &&
+            (same_sets || !visited.emplace(next_active, next_stick).second))
+          exact = true;
         if (report.iterations >= max_iterations)
           break;
         active     = next_active;

@@ -123,8 +123,9 @@ namespace Signorini
       const std::vector<std::pair<types::global_dof_index, double>> &forces,
       const std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>
-                 &springs,
-      LA::Vector &u) const;
+                  &springs,
+      LA::Vector  &u,
+      const double relative_tolerance = 0.) const;
 
     /**
      * Tune the linear solver's preconditioner to the active set @p active

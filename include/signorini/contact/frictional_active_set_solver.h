@@ -160,11 +160,15 @@ namespace Signorini
     /// changed since it was built (Active set/Preconditioner update
     /// fraction). With @p check_uniqueness, a Coulomb solution where the
     /// fixed point on the Tresca threshold does not contract is refused.
+    /// While the sets change, the solves stop at the relative CG tolerance
+    /// @p inexact_tolerance (Active set/Inexact tolerance; 0: every solve
+    /// at the linear solver's).
     FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
                               const unsigned int      max_iterations,
                               const Method method = Method::semismooth_newton,
                               const double preconditioner_update_fraction = 1.,
-                              const bool   check_uniqueness = true);
+                              const bool   check_uniqueness  = true,
+                              const double inexact_tolerance = 0.);
 
     /// Throw an InputError naming the parameter if friction cannot be
     /// applied to @p problem: a contact direction off the coordinate axes,
@@ -231,6 +235,7 @@ namespace Signorini
     const Method            method;
     const double            preconditioner_update_fraction;
     const bool              check_uniqueness;
+    const double            inexact_tolerance;
   };
 } // namespace Signorini
 
