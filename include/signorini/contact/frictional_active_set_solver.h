@@ -113,7 +113,9 @@ namespace Signorini
    * (f_k the tangential force on node k, t_k its tangential displacement,
    * P_s the projection onto the disc |f| <= s_k, c_k > 0 any scale: here
    * K_ii of its tangential dofs; t_k the slip since the previous load step).
-   * A node in contact sticks (t_k = 0 is imposed) when |xi_k| <= s_k; otherwise
+   * The law acts on the nodes in contact (Coulomb; for Tresca on every
+   * node of GC, the classical convex problem).
+   * Such a node sticks (t_k = 0 is imposed) when |xi_k| <= s_k; otherwise
    * it slides, and the semismooth Newton step linearises s xi / |xi|: the
    * prescribed force s_k n_k along n_k = xi_k / |xi_k|, and across n_k a spring
    * s_k c_k / (|xi_k| - s_k) on t_k (none in 2D, where n_k is a sign). A node
@@ -121,8 +123,10 @@ namespace Signorini
    * it moved), and a sliding node whose direction would reverse sticks for
    * one step (doc/theory.md section 8). Each step is one symmetric positive
    * definite elasticity solve (stick: constraints, slip: nodal forces and
-   * springs). The Coulomb bound s_k = mu y_k is that of the previous step; the
-   * method stops when the sets repeat and the slip forces have converged to
+   * springs), inexact while the sets change (ActiveSetSolver's Inexact
+   * tolerance), exact once they hold or repeat. The Coulomb bound s_k =
+   * mu y_k is that of the previous step; the method stops, on an exact
+   * step, when the sets repeat and the slip forces have converged to
    * round-off (they change by at most 1e-14 of the problem's forces, 1e-12
    * in the Tresca problems of the fixed point, or stop shrinking below 1e-8
    * of them: the linear solver's tolerance).
