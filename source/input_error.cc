@@ -601,27 +601,22 @@ namespace Signorini
           if (!parse_finite_double(value, number))
             {
               // muParser takes constants as numbers only: an expression
-              // (0.1*1e6, pi/2) is not evaluated
-              std::string word = value;
-              for (char &c : word)
-                c = std::tolower(static_cast<unsigned char>(c));
-              const std::string unsigned_word = word.substr(
-                std::min(word.find_first_not_of("+-"), word.size()));
-              const bool not_finite = unsigned_word == "nan" ||
-                                      unsigned_word == "inf" ||
-                                      unsigned_word == "infinity";
-              const bool expression =
-                !not_finite &&
-                (value.find_first_of("*/()^") != std::string::npos ||
-                 word.find_first_of("abcdfghijklmnopqrstuvwxyz_") !=
-                   std::string::npos);
+              // (0.1*1e6, 2+3, pi/2) is not evaluated; a number out of range
+              // (1e400, 1e-400, nan, -inf) is said to be one
+              char *end         = nullptr;
+              errno             = 0;
+              const double read = std::strtod(value.c_str(), &end);
+              const bool   out_of_range =
+                !value.empty() && *end == '\0' &&
+                (!std::isfinite(read) || errno == ERANGE);
               throw InputError(
                 name + "the value <" + value + "> of " + constant +
-                (expression ?
-                   " is an expression: constants take plain numbers "
-                   "(write the number, e.g. 1.5e5, or put the expression "
-                   "into Function expression)" :
-                   " is not a finite number " + double_range));
+                (out_of_range ?
+                   " is not a finite number " + double_range :
+                   " is not a plain number: constants take numbers "
+                   "only, not expressions (write the number, e.g. "
+                   "1.5e5, or put the expression into Function "
+                   "expression)"));
             }
           if (predefined.count(constant) != 0)
             throw InputError(name + "<" + constant +

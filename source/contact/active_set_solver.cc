@@ -1,4 +1,5 @@
 #include <signorini/contact/active_set_solver.h>
+#include <signorini/input_error.h>
 #include <signorini/progress.h>
 
 #include <algorithm>
@@ -61,7 +62,7 @@ namespace Signorini
                       "set (with friction: the stick and slip sets too) "
                       "still changes (the final solves use Linear "
                       "solver/Relative tolerance; 0: every solve at that "
-                      "accuracy).");
+                      "accuracy; otherwise at least 1e-16).");
     prm.declare_entry("Preconditioner update fraction",
                       "0.02",
                       Patterns::Double(0., 1.),
@@ -82,6 +83,13 @@ namespace Signorini
     prm.enter_subsection("Active set");
     max_iterations    = prm.get_integer("Maximum iterations");
     inexact_tolerance = prm.get_double("Inexact tolerance");
+    // (as Linear solver/Relative tolerance: below 1e-16 CG breaks down,
+    // 1e-300 gave NaN)
+    if (inexact_tolerance > 0. && inexact_tolerance < 1e-16)
+      throw InputError("Contact/Active set/Inexact tolerance = " +
+                       prm.get("Inexact tolerance") +
+                       ": 0 (every solve at Linear solver/Relative "
+                       "tolerance) or from 1e-16 to 1");
     preconditioner_update_fraction =
       prm.get_double("Preconditioner update fraction");
     prm.leave_subsection();

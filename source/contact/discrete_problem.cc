@@ -581,6 +581,19 @@ namespace Signorini
            std::max(u.linfty_norm(), max_norm(contact_boundary.nodal_gap()));
   }
 
+  template <int dim>
+  double
+  DiscreteContactProblem<dim>::imposed_force_scale() const
+  {
+    double scale = 0.;
+    for (const auto i : load_vector.locally_owned_elements())
+      if (base_constraints.is_inhomogeneously_constrained(i))
+        scale = std::max(scale,
+                         std::abs(stiffness_matrix.diag_element(i) *
+                                  base_constraints.get_inhomogeneity(i)));
+    return Utilities::MPI::max(scale, load_vector.get_mpi_communicator());
+  }
+
   template class DiscreteContactProblem<2>;
   template class DiscreteContactProblem<3>;
 } // namespace Signorini

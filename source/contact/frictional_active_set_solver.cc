@@ -527,9 +527,10 @@ namespace Signorini
     const std::vector<bool>           &initial_active,
     const FrictionState<dim>          *previous) const
   {
-    const unsigned int  m          = problem.n_constraints();
-    const double        mu         = law.coefficient();
-    const double        load_scale = problem.load().linfty_norm();
+    const unsigned int m  = problem.n_constraints();
+    const double       mu = law.coefficient();
+    const double       load_scale =
+      std::max(problem.load().linfty_norm(), problem.imposed_force_scale());
     std::vector<double> bounds(m, 0.); // s^0 = 0: frictionless
     std::vector<bool>   active =
       (initial_active.size() == m) ? initial_active : std::vector<bool>(m);
@@ -637,7 +638,11 @@ namespace Signorini
                                        tresca_bound[i];
     };
 
-    const double load_scale = problem.load().linfty_norm();
+    // the forces of the problem: its loads, or those of its imposed
+    // displacements (a body moved by Dirichlet data, without contact, has
+    // no other: its forces are round-off)
+    const double load_scale =
+      std::max(problem.load().linfty_norm(), problem.imposed_force_scale());
     // the rows the law acts on: those in contact, and for Tresca with its
     // own bounds (not the fixed point's mu y) all of GC, in contact or not:
     // the classical convex problem, whose friction term int s |u_t| has a
@@ -863,13 +868,18 @@ namespace Signorini
     const Vector<double> slack = problem.slack(u);
     const double scale_primal  = std::max(problem.constraint_scale(u), 1e-300);
     const double scale_dual    = std::max(max_norm(y), 1e-300);
+    // (the cone relative to the forces of the problem too: Tresca acts
+    // without contact, where y = 0)
+    double scale_force = std::max(scale_dual, load_scale);
+    for (unsigned int i = 0; i < m; ++i)
+      scale_force = std::max(scale_force, state.bound[i]);
     for (unsigned int i = 0; i < m; ++i)
       report.residual =
         std::max({report.residual,
                   -slack[i] / scale_primal,
                   -y[i] / scale_dual,
                   std::abs(y[i] * slack[i]) / (scale_dual * scale_primal),
-                  (state.force[i].norm() - state.bound[i]) / scale_dual});
+                  (state.force[i].norm() - state.bound[i]) / scale_force});
     return report;
   }
 

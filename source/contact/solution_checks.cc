@@ -145,8 +145,9 @@ namespace Signorini
         lower[d] = Utilities::MPI::min(lower[d], comm);
         upper[d] = Utilities::MPI::max(upper[d], comm);
       }
-    checks.residual /= std::max(
-      {applied_scale, imposed_scale, std::numeric_limits<double>::min()});
+    checks.force_scale = std::max(applied_scale, imposed_scale);
+    checks.residual /=
+      std::max(checks.force_scale, std::numeric_limits<double>::min());
     const double diameter = (upper - lower).norm();
     // the largest term, NaN if any is NaN
     double     largest = 0.;
@@ -172,9 +173,10 @@ namespace Signorini
                  SolutionChecks           &checks)
   {
     using Status = typename FrictionState<dim>::Status;
-    // (the forces relative to the bounds, or to the normal forces when the
-    // bounds vanish: mu = 0)
-    double scale_force = scale_dual;
+    // (the forces relative to the bounds, the normal forces, or the forces
+    // of the problem when both vanish: mu = 0, a zero Tresca threshold, no
+    // contact)
+    double scale_force = std::max(scale_dual, checks.force_scale);
     for (const double s : state.bound)
       scale_force = std::max(scale_force, s);
     scale_force = std::max(scale_force, std::numeric_limits<double>::min());

@@ -46,6 +46,11 @@ namespace Signorini
     /// (the force at the bound, opposing the slip t_k).
     double slip = 0.;
 
+    /// Not a check: the scale of the residual, the largest applied force
+    /// (contact forces included) or K_ii |u_D,i| of the imposed
+    /// displacements (the forces scale of check_friction()).
+    double force_scale = 0.;
+
     /// The largest check and its name (a NaN check counts as the largest).
     std::pair<std::string, double>
     largest() const;
