@@ -583,9 +583,9 @@ namespace Signorini
 
   template <int dim>
   double
-  DiscreteContactProblem<dim>::imposed_force_scale() const
+  DiscreteContactProblem<dim>::force_scale() const
   {
-    double scale = 0.;
+    double scale = load_vector.linfty_norm();
     for (const auto i : load_vector.locally_owned_elements())
       if (base_constraints.is_inhomogeneously_constrained(i))
         scale = std::max(scale,

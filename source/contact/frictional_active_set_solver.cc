@@ -527,10 +527,9 @@ namespace Signorini
     const std::vector<bool>           &initial_active,
     const FrictionState<dim>          *previous) const
   {
-    const unsigned int m  = problem.n_constraints();
-    const double       mu = law.coefficient();
-    const double       load_scale =
-      std::max(problem.load().linfty_norm(), problem.imposed_force_scale());
+    const unsigned int  m          = problem.n_constraints();
+    const double        mu         = law.coefficient();
+    const double        load_scale = problem.force_scale();
     std::vector<double> bounds(m, 0.); // s^0 = 0: frictionless
     std::vector<bool>   active =
       (initial_active.size() == m) ? initial_active : std::vector<bool>(m);
@@ -638,11 +637,7 @@ namespace Signorini
                                        tresca_bound[i];
     };
 
-    // the forces of the problem: its loads, or those of its imposed
-    // displacements (a body moved by Dirichlet data, without contact, has
-    // no other: its forces are round-off)
-    const double load_scale =
-      std::max(problem.load().linfty_norm(), problem.imposed_force_scale());
+    const double load_scale = problem.force_scale();
     // the rows the law acts on: those in contact, and for Tresca with its
     // own bounds (not the fixed point's mu y) all of GC, in contact or not:
     // the classical convex problem, whose friction term int s |u_t| has a

@@ -150,10 +150,9 @@ namespace Signorini
                 ExcMessage("the error estimate with friction needs the "
                            "friction state of the solution"));
     const std::unique_ptr<const FrictionData<dim>> friction(
-      with_friction ? new FrictionData<dim>{*friction_law,
-                                            friction_state->force,
-                                            friction_state->origin} :
-                      nullptr);
+      with_friction ?
+        new FrictionData<dim>{*friction_law, friction_state->force} :
+        nullptr);
     const AdmissibleContactFields<dim> fields =
       problem.condition().admissible_fields(problem, u_h, y, friction.get());
     const Vector<double> &normal_reaction = fields.normal_reaction;

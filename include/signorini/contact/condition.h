@@ -52,15 +52,13 @@ namespace Signorini
     std::vector<double> friction_bound;
   };
 
-  /// Friction's part of a solution, for its admissible fields: the law,
-  /// the tangential multiplier of each row (FrictionState::force) and
-  /// where each node of GC slides from (FrictionState::origin).
+  /// Friction's part of a solution, for its admissible fields: the law and
+  /// the tangential multiplier of each row (FrictionState::force).
   template <int dim>
   struct FrictionData
   {
     const FrictionLaw<dim>            &law;
     const std::vector<Tensor<1, dim>> &multiplier;
-    const std::vector<Tensor<1, dim>> &origin;
   };
 
   /**

@@ -202,12 +202,12 @@ namespace Signorini
     double
     constraint_scale(const LA::Vector &u) const;
 
-    /// max K_ii |g_i| over the dofs with inhomogeneous base constraints
-    /// (the Dirichlet data): the forces the imposed displacements exert on
-    /// their own, the scale of a problem driven by them (a rigid motion
-    /// imposed by them has no other).
+    /// The forces of the problem: the largest load, or the largest K_ii
+    /// |g_i| over the dofs with Dirichlet data g_i (the forces the imposed
+    /// displacements exert on their own: a body moved by its Dirichlet data
+    /// and out of contact has no other).
     double
-    imposed_force_scale() const;
+    force_scale() const;
 
   private:
     /// F plus the nodal @p forces (dof, value) on the dofs of this rank.
