@@ -6,6 +6,8 @@
 #include <signorini/registry.h>
 
 #include <Amesos.h>
+#include <Amesos_BaseSolver.h>
+#include <Epetra_LinearProblem.h>
 #include <algorithm>
 
 namespace Signorini
@@ -342,6 +344,14 @@ namespace Signorini
 
 
 
+  ElasticitySolver::ElasticitySolver() = default;
+
+
+
+  ElasticitySolver::~ElasticitySolver() = default;
+
+
+
   void
   ElasticitySolver::initialize(
     const LA::SparseMatrix                     &stiffness,
@@ -386,6 +396,8 @@ namespace Signorini
   ElasticitySolver::release_preconditioner()
   {
     direct.reset();
+    direct_problem.reset();
+    analysed_matrix = nullptr;
     amg.reset();
     aggregation_amg.reset();
     null_space.reset();
@@ -468,28 +480,43 @@ namespace Signorini
   void
   ElasticitySolver::build_preconditioner(const LA::SparseMatrix &matrix)
   {
-    direct.reset();
     amg.reset();
     if (use_direct)
       {
-        direct_control = SolverControl(1, 0., false, false);
-        direct         = std::make_unique<TrilinosWrappers::SolverDirect>(
-          direct_control,
-          TrilinosWrappers::SolverDirect::AdditionalData(false, package));
-        try
+        const Epetra_CrsMatrix &epetra_matrix = matrix.trilinos_matrix();
+        int                     status        = 0;
+        if (!direct || analysed_matrix != &epetra_matrix)
           {
-            direct->initialize(matrix);
+            direct.reset();
+            direct_problem = std::make_unique<Epetra_LinearProblem>();
+            // (Amesos reads the operator, it does not change it)
+            direct_problem->SetOperator(
+              const_cast<Epetra_CrsMatrix *>(&epetra_matrix));
+            Amesos factory;
+            direct.reset(factory.Create(package, *direct_problem));
+            if (!direct)
+              throw InputError(
+                "Linear solver/Direct solver package = " + package +
+                ": not available in this Trilinos build");
+            status          = direct->SymbolicFactorization();
+            analysed_matrix = &epetra_matrix;
           }
-        catch (const ExceptionBase &exc)
+        if (status == 0)
+          status = direct->NumericFactorization();
+        if (status != 0)
           {
-            std::ostringstream text;
-            exc.print_info(text);
+            direct.reset();
+            analysed_matrix = nullptr;
             throw InputError("Linear solver/Direct solver package = " +
-                             package + ": " + one_line_message(text.str()));
+                             package + ": the factorisation failed (Amesos " +
+                             "error " + std::to_string(status) + ")");
           }
       }
     else
       {
+        direct.reset();
+        direct_problem.reset();
+        analysed_matrix = nullptr;
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
         data.higher_order_elements = false;
@@ -588,7 +615,14 @@ namespace Signorini
         // the preconditioner built: direct, ML or the low-memory hierarchy
         const auto inner = [this](LA::Vector &dst, const LA::Vector &src) {
           if (direct)
-            direct->solve(dst, src);
+            {
+              direct_problem->SetLHS(&dst.trilinos_vector());
+              direct_problem->SetRHS(
+                const_cast<Epetra_MultiVector *>(&src.trilinos_vector()));
+              if (direct->Solve() != 0)
+                throw std::runtime_error("the direct solve (" + package +
+                                         ") failed");
+            }
           else if (aggregation_amg)
             aggregation_amg->vmult(dst, src);
           else

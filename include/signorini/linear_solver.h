@@ -5,7 +5,6 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_solver.h>
 
 #include <signorini/aggregation_multigrid.h>
 #include <signorini/linear_algebra.h>
@@ -15,6 +14,9 @@
 #include <string>
 #include <tuple>
 #include <vector>
+
+class Amesos_BaseSolver;
+class Epetra_LinearProblem;
 
 namespace Signorini
 {
@@ -44,6 +46,9 @@ namespace Signorini
   class ElasticitySolver
   {
   public:
+    ElasticitySolver();
+    ~ElasticitySolver();
+
     /// The preconditioner of the CG solves (Linear solver/Type).
     enum class Type
     {
@@ -184,10 +189,15 @@ namespace Signorini
     bool use_direct = true;
     /// The Amesos package initialize() chose.
     std::string package = "Amesos_Klu";
-    /// The direct factorisation (its solve is not const)
-    mutable std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
-    /// The solver control the direct solver needs
-    mutable SolverControl direct_control;
+    /// The direct factorisation's problem, whose operator is modified_matrix
+    std::unique_ptr<Epetra_LinearProblem> direct_problem;
+    /// The direct factorisation. Eliminations keep modified_matrix's pattern
+    /// (the entries are zeroed, not removed), so its symbolic factorisation
+    /// is made once per stiffness matrix and each active set only factorises
+    /// the values again.
+    std::unique_ptr<Amesos_BaseSolver> direct;
+    /// The matrix whose pattern direct has analysed.
+    const Epetra_CrsMatrix *analysed_matrix = nullptr;
     /// The AMG hierarchy
     std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
     /// The low-memory AMG hierarchy (Linear solver/AMG/Low memory)
