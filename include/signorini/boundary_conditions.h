@@ -119,7 +119,8 @@ namespace Signorini
     std::vector<TractionPart>              tractions;
     std::unique_ptr<LoadPathFunction<dim>> body_force;
     /// Whether every component of the body force is the literal constant 0
-    /// (the element equilibration then skips its evaluation per cell).
+    /// (the element equilibration and check_finite() then skip its
+    /// evaluation per cell).
     bool body_force_zero = false;
   };
 
