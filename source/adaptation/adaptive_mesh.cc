@@ -450,10 +450,20 @@ namespace Signorini
         hierarchy_cell_of.push_back(cell->active_cell_index());
         level_of.push_back(cell->level());
       }
-    std::vector<Point<3>> vertices = hierarchy.get_vertices();
-    GridTools::delete_unused_vertices(vertices, cells, boundary);
     mesh.clear();
-    mesh.create_triangulation(vertices, cells, boundary);
+    // (a hierarchy of one level with every vertex used is the mesh itself:
+    // copied, its connectivity is not built a second time)
+    if (hierarchy.n_levels() == 1 &&
+        std::all_of(hierarchy.get_used_vertices().begin(),
+                    hierarchy.get_used_vertices().end(),
+                    [](const bool used) { return used; }))
+      mesh.copy_triangulation(hierarchy);
+    else
+      {
+        std::vector<Point<3>> vertices = hierarchy.get_vertices();
+        GridTools::delete_unused_vertices(vertices, cells, boundary);
+        mesh.create_triangulation(vertices, cells, boundary);
+      }
     AssertDimension(mesh.n_active_cells(), hierarchy_cell_of.size());
   }
 
