@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -69,6 +70,29 @@ namespace
     // every PCI device (10 ms); a single process binds no I/O device
     setenv("HWLOC_COMPONENTS", "-pci,-linuxio", /*overwrite=*/0);
   }
+
+  /**
+   * One BLAS thread per process, unless the user chose a number. OpenBLAS
+   * starts a thread per core whose waits spin (sched_yield); under MUMPS's
+   * dense fronts they compete with deal.II's thread pool, with the other
+   * ranks of an MPI run and with any other load of the machine: on a busy
+   * 2-core machine the contact solve of a 3 591-DoF cube took 1.2 to 1.7 s
+   * instead of 0.08 to 0.16 s (doc/benchmarks.md, "Small runs"). OpenBLAS
+   * reads its variable when it is loaded, before main(), so its own setter
+   * is called, when the BLAS in use has one.
+   */
+  void
+  use_one_blas_thread()
+  {
+    for (const char *chosen :
+         {"OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS"})
+      if (std::getenv(chosen) != nullptr)
+        return;
+    using SetThreads = void (*)(int);
+    if (const auto set_threads = reinterpret_cast<SetThreads>(
+          dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set_threads(1);
+  }
 } // namespace
 
 
@@ -80,6 +104,7 @@ main(int argc, char **argv)
   const std::vector<std::string> args(argv + 1, argv + argc);
   // serially or under mpirun (deal.II's thread pool on every rank)
   prefer_fast_singleton_start();
+  use_one_blas_thread();
   Utilities::MPI::MPI_InitFinalize mpi(argc,
                                        argv,
                                        numbers::invalid_unsigned_int);
