@@ -196,7 +196,9 @@ namespace Signorini
     /// is made once per stiffness matrix and each active set only factorises
     /// the values again.
     std::unique_ptr<Amesos_BaseSolver> direct;
-    /// The matrix whose pattern direct has analysed.
+    /// The matrix whose pattern direct has analysed. (modified_matrix's
+    /// copy_from() keeps its Epetra matrix when the pattern is the same and
+    /// allocates a new one, at another address, when it is not.)
     const Epetra_CrsMatrix *analysed_matrix = nullptr;
     /// The AMG hierarchy
     std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
