@@ -418,7 +418,13 @@ namespace Signorini
   {
     // In 3D the hierarchy is the input's mesh, refined by MeshInput itself
     // (uniform cycles rebuild it, see remesh()): its tetrahedra are copied,
-    // with the boundary ids of their faces.
+    // with the boundary ids of their faces. A hierarchy of one level with
+    // every vertex used is the mesh itself: it is copied whole, and its
+    // connectivity is not built a second time.
+    const bool copy_whole = hierarchy.n_levels() == 1 &&
+                            std::all_of(hierarchy.get_used_vertices().begin(),
+                                        hierarchy.get_used_vertices().end(),
+                                        [](const bool used) { return used; });
     std::vector<CellData<3>> cells;
     SubCellData              boundary;
     hierarchy_cell_of.clear();
@@ -426,6 +432,10 @@ namespace Signorini
     green_cells = 0;
     for (const auto &cell : hierarchy.active_cell_iterators())
       {
+        hierarchy_cell_of.push_back(cell->active_cell_index());
+        level_of.push_back(cell->level());
+        if (copy_whole)
+          continue;
         for (const unsigned int f : cell->face_indices())
           {
             if (cell->face(f)->has_children())
@@ -447,16 +457,9 @@ namespace Signorini
           data.vertices[i] = cell->vertex_index(i);
         data.material_id = cell->material_id();
         cells.push_back(data);
-        hierarchy_cell_of.push_back(cell->active_cell_index());
-        level_of.push_back(cell->level());
       }
     mesh.clear();
-    // (a hierarchy of one level with every vertex used is the mesh itself:
-    // copied, its connectivity is not built a second time)
-    if (hierarchy.n_levels() == 1 &&
-        std::all_of(hierarchy.get_used_vertices().begin(),
-                    hierarchy.get_used_vertices().end(),
-                    [](const bool used) { return used; }))
+    if (copy_whole)
       mesh.copy_triangulation(hierarchy);
     else
       {
