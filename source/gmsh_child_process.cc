@@ -4,13 +4,16 @@
 #include <signorini/progress.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <fcntl.h>
+#include <fstream>
 #include <iostream>
 #include <poll.h>
+#include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -158,75 +161,175 @@ namespace Signorini
 
 
 
+  namespace
+  {
+    /// The CPU time (user and system, in clock ticks) that process @p pid
+    /// has used, from /proc; -1 where it cannot be read.
+    long long
+    cpu_ticks_of(const pid_t pid)
+    {
+      std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+      std::string   line;
+      std::getline(stat, line);
+      // (the command name, field 2, is in parentheses and may hold spaces)
+      const std::size_t name_end = line.rfind(')');
+      if (name_end == std::string::npos)
+        return -1;
+      std::istringstream fields(line.substr(name_end + 1));
+      std::string        skipped;
+      // fields 3 (state) to 13, then utime and stime (proc(5))
+      for (unsigned int field = 3; field < 14; ++field)
+        fields >> skipped;
+      long long user = 0, system = 0;
+      if (!(fields >> user >> system))
+        return -1;
+      return user + system;
+    }
+
+    /// The child used no CPU time for the stall limit: killed.
+    class GmshStalled : public std::runtime_error
+    {
+    public:
+      explicit GmshStalled(const double seconds)
+        : std::runtime_error("Gmsh failed: its process used no CPU time for " +
+                             seconds_text(seconds) +
+                             " s, twice (stuck); it was killed")
+      {}
+
+    private:
+      static std::string
+      seconds_text(const double seconds)
+      {
+        std::ostringstream text;
+        text << seconds;
+        return text.str();
+      }
+    };
+
+
+
+    /// One child running @p job: its result, or an exception.
+    std::string
+    run_in_one_child(const std::function<std::string()> &job,
+                     const std::string                  &progress,
+                     const double                        stall_seconds)
+    {
+      int fds[2];
+      if (::pipe(fds) != 0)
+        throw std::runtime_error("cannot start Gmsh: pipe(): " +
+                                 std::string(std::strerror(errno)));
+      // (buffered output would be written twice)
+      std::cout.flush();
+      std::cerr.flush();
+      const pid_t pid = ::fork();
+      if (pid < 0)
+        {
+          const int error = errno;
+          ::close(fds[0]);
+          ::close(fds[1]);
+          throw std::runtime_error("cannot start Gmsh: fork(): " +
+                                   std::string(std::strerror(error)));
+        }
+      if (pid == 0)
+        {
+          ::close(fds[0]);
+          report_fd = fds[1];
+          run_child(job);
+        }
+
+      ::close(fds[1]);
+      // (the caller is the one rank that meshes)
+      Progress    progress_lines("Gmsh", MPI_COMM_SELF);
+      std::string data;
+      char        buffer[1 << 16];
+      using Clock          = std::chrono::steady_clock;
+      auto      last_work  = Clock::now();
+      auto      last_look  = last_work;
+      long long last_ticks = cpu_ticks_of(pid);
+      bool      stalled    = false;
+      while (true)
+        {
+          pollfd    request = {fds[0], POLLIN, 0};
+          const int ready   = ::poll(&request, 1, 1000);
+          if (ready > 0)
+            {
+              const ssize_t n = ::read(fds[0], buffer, sizeof(buffer));
+              if (n > 0)
+                {
+                  data.append(buffer, n);
+                  last_work = Clock::now();
+                }
+              else if (n == 0 || (errno != EINTR && errno != EAGAIN))
+                break;
+            }
+          else if (ready < 0 && errno != EINTR)
+            break;
+          const long long ticks = cpu_ticks_of(pid);
+          const auto      now   = Clock::now();
+          // (a parent that did not run for seconds, suspended or starved,
+          // cannot tell that the child did not either)
+          if (ticks != last_ticks ||
+              std::chrono::duration<double>(now - last_look).count() > 5.)
+            {
+              last_ticks = ticks;
+              last_work  = now;
+            }
+          last_look = now;
+          if (ticks >= 0 &&
+              std::chrono::duration<double>(now - last_work).count() >
+                stall_seconds)
+            {
+              ::kill(pid, SIGKILL);
+              stalled = true;
+              break;
+            }
+          if (!progress.empty())
+            progress_lines.report([&progress]() { return progress; });
+        }
+      ::close(fds[0]);
+      int status = 0;
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+      if (stalled)
+        throw GmshStalled(stall_seconds);
+
+      if (WIFSIGNALED(status))
+        {
+          const int   signal = WTERMSIG(status);
+          const char *name   = ::sigabbrev_np(signal);
+          throw std::runtime_error(
+            "Gmsh failed: it crashed (signal " + std::to_string(signal) +
+            (name ? ", SIG" + std::string(name) : "") + ")");
+        }
+      if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || data.empty())
+        throw std::runtime_error("Gmsh failed: its process ended without a "
+                                 "result");
+      if (data[0] == program_ended)
+        throw GmshEndedProgram();
+      if (data[0] == job_failed)
+        throw std::runtime_error(data.substr(1));
+      return data.substr(1);
+    }
+  } // namespace
+
+
+
   std::string
   run_in_gmsh_child(const std::function<std::string()> &job,
-                    const std::string                  &progress)
+                    const std::string                  &progress,
+                    const double                        stall_seconds)
   {
-    int fds[2];
-    if (::pipe(fds) != 0)
-      throw std::runtime_error("cannot start Gmsh: pipe(): " +
-                               std::string(std::strerror(errno)));
-    // (buffered output would be written twice)
-    std::cout.flush();
-    std::cerr.flush();
-    const pid_t pid = ::fork();
-    if (pid < 0)
+    // A child that is stuck (fork() copies the locks that the parent's other
+    // threads, TBB's or MPI's, held at that instant) is killed and the job
+    // runs once more in a new child: the jobs are deterministic, so the
+    // second child gives what the first would have.
+    try
       {
-        const int error = errno;
-        ::close(fds[0]);
-        ::close(fds[1]);
-        throw std::runtime_error("cannot start Gmsh: fork(): " +
-                                 std::string(std::strerror(error)));
+        return run_in_one_child(job, progress, stall_seconds);
       }
-    if (pid == 0)
+    catch (const GmshStalled &)
       {
-        ::close(fds[0]);
-        report_fd = fds[1];
-        run_child(job);
+        return run_in_one_child(job, progress, stall_seconds);
       }
-
-    ::close(fds[1]);
-    // (the caller is the one rank that meshes)
-    Progress    progress_lines("Gmsh", MPI_COMM_SELF);
-    std::string data;
-    char        buffer[1 << 16];
-    while (true)
-      {
-        pollfd    request = {fds[0], POLLIN, 0};
-        const int ready   = ::poll(&request, 1, 1000);
-        if (ready > 0)
-          {
-            const ssize_t n = ::read(fds[0], buffer, sizeof(buffer));
-            if (n > 0)
-              data.append(buffer, n);
-            else if (n == 0 || (errno != EINTR && errno != EAGAIN))
-              break;
-          }
-        else if (ready < 0 && errno != EINTR)
-          break;
-        if (!progress.empty())
-          progress_lines.report([&progress]() { return progress; });
-      }
-    ::close(fds[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
-      ;
-
-    if (WIFSIGNALED(status))
-      {
-        const int   signal = WTERMSIG(status);
-        const char *name   = ::sigabbrev_np(signal);
-        throw std::runtime_error(
-          "Gmsh failed: it crashed (signal " + std::to_string(signal) +
-          (name ? ", SIG" + std::string(name) : "") + ")");
-      }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || data.empty())
-      throw std::runtime_error("Gmsh failed: its process ended without a "
-                               "result");
-    if (data[0] == program_ended)
-      throw GmshEndedProgram();
-    if (data[0] == job_failed)
-      throw std::runtime_error(data.substr(1));
-    return data.substr(1);
   }
 } // namespace Signorini

@@ -79,7 +79,11 @@ namespace
    * 2-core machine the contact solve of a 3 591-DoF cube took 1.2 to 1.7 s
    * instead of 0.08 to 0.16 s (doc/benchmarks.md, "Small runs"). OpenBLAS
    * reads its variable when it is loaded, before main(), so its own setter
-   * is called, when the BLAS in use has one.
+   * is called, when the BLAS in use has one. The threads it started when it
+   * was loaded are then ended, while they are the only other threads: with
+   * one thread OpenBLAS does not start them again, and a fork() (Gmsh runs
+   * in a child) no longer has OpenBLAS wake and join them in its fork
+   * handler.
    */
   void
   use_one_blas_thread()
@@ -91,7 +95,13 @@ namespace
     using SetThreads = void (*)(int);
     if (const auto set_threads = reinterpret_cast<SetThreads>(
           dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-      set_threads(1);
+      {
+        set_threads(1);
+        using EndThreads = int (*)();
+        if (const auto end_threads = reinterpret_cast<EndThreads>(
+              dlsym(RTLD_DEFAULT, "blas_thread_shutdown_")))
+          end_threads();
+      }
   }
 } // namespace
 

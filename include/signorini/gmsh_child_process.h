@@ -25,10 +25,17 @@ namespace Signorini
    * While the child works, the parent prints "   Gmsh: <progress> after
    * N s" as a Progress line (nothing if @p progress is empty), so that a
    * long meshing is not silent.
+   *
+   * A child that uses no CPU time for @p stall_seconds (and sends nothing)
+   * is stuck, not slow: Gmsh computes and reads only local files, while a
+   * fork() copies a lock another thread of the parent held at that instant
+   * as held forever. It is killed and @p job runs once more in a new child;
+   * a second stall is an error ("... used no CPU time for 60 s, twice").
    */
   std::string
   run_in_gmsh_child(const std::function<std::string()> &job,
-                    const std::string                  &progress);
+                    const std::string                  &progress,
+                    const double                        stall_seconds = 60);
 
   /**
    * @p job (a call of run_in_gmsh_child(), or anything else that must run
