@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <poll.h>
 #include <sstream>
 #include <sys/wait.h>
@@ -186,30 +187,9 @@ namespace Signorini
       return user + system;
     }
 
-    /// The child used no CPU time for the stall limit: killed.
-    class GmshStalled : public std::runtime_error
-    {
-    public:
-      explicit GmshStalled(const double seconds)
-        : std::runtime_error("Gmsh failed: its process used no CPU time for " +
-                             seconds_text(seconds) +
-                             " s, twice (stuck); it was killed")
-      {}
-
-    private:
-      static std::string
-      seconds_text(const double seconds)
-      {
-        std::ostringstream text;
-        text << seconds;
-        return text.str();
-      }
-    };
-
-
-
-    /// One child running @p job: its result, or an exception.
-    std::string
+    /// One child running @p job: its result, an exception, or nothing if
+    /// the child used no CPU time for @p stall_seconds (it was killed).
+    std::optional<std::string>
     run_in_one_child(const std::function<std::string()> &job,
                      const std::string                  &progress,
                      const double                        stall_seconds)
@@ -291,7 +271,7 @@ namespace Signorini
       while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
       if (stalled)
-        throw GmshStalled(stall_seconds);
+        return std::nullopt;
 
       if (WIFSIGNALED(status))
         {
@@ -323,13 +303,12 @@ namespace Signorini
     // threads, TBB's or MPI's, held at that instant) is killed and the job
     // runs once more in a new child: the jobs are deterministic, so the
     // second child gives what the first would have.
-    try
-      {
-        return run_in_one_child(job, progress, stall_seconds);
-      }
-    catch (const GmshStalled &)
-      {
-        return run_in_one_child(job, progress, stall_seconds);
-      }
+    for (unsigned int attempt = 0; attempt < 2; ++attempt)
+      if (const auto result = run_in_one_child(job, progress, stall_seconds))
+        return *result;
+    std::ostringstream message;
+    message << "Gmsh failed: its process used no CPU time for " << stall_seconds
+            << " s, twice (stuck); it was killed";
+    throw std::runtime_error(message.str());
   }
 } // namespace Signorini
