@@ -394,9 +394,28 @@ namespace Signorini
   void
   ContactComputation<dim>::check_friction_threshold() const
   {
-    if (friction_law_.type() == FrictionLaw<dim>::Type::tresca)
-      for (const auto k : gamma_c.multiplier_nodes())
-        friction_law_.threshold_at(gamma_c.node(k).position);
+    if (friction_law_.type() != FrictionLaw<dim>::Type::tresca)
+      return;
+    // the law reads the threshold at the nodes; between them, a threshold
+    // that is negative (or not finite) is as wrong, and a finer mesh would
+    // meet it: sampled on every face of GC, in the same order on every rank
+    for (const auto k : gamma_c.multiplier_nodes())
+      friction_law_.threshold_at(gamma_c.node(k).position);
+    const FE_SimplexP<dim>       scalar_fe(1);
+    const QGaussSimplex<dim - 1> face_quadrature(4);
+    FEFaceValues<dim>            fe_face_values(mapping_fe,
+                                     scalar_fe,
+                                     face_quadrature,
+                                     update_quadrature_points);
+    for (const auto &cell : dofs.get_triangulation().active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            gamma_c.boundary_ids().count(cell->face(f)->boundary_id()) != 0)
+          {
+            fe_face_values.reinit(cell, f);
+            for (const Point<dim> &x : fe_face_values.get_quadrature_points())
+              friction_law_.threshold_at(x);
+          }
   }
 
 

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -678,6 +679,20 @@ namespace Signorini
 
 
 
+  void
+  refuse_random_numbers(const std::string &expression,
+                        const std::string &description)
+  {
+    static const std::regex call("(^|[^A-Za-z0-9_])rand(_seed)?[ \\t]*\\(");
+    if (std::regex_search(expression, call))
+      throw InputError(description + ": <" + expression +
+                       "> calls rand() or rand_seed(), whose values differ "
+                       "between runs, threads and MPI ranks: give data that "
+                       "are functions of the coordinates and t only");
+  }
+
+
+
   template <int dim>
   std::unique_ptr<Functions::ParsedFunction<dim>>
   parse_function(ParameterHandler  &prm,
@@ -686,6 +701,7 @@ namespace Signorini
   {
     check_variable_names(prm, dim, description);
     check_function_constants(prm, description);
+    refuse_random_numbers(prm.get("Function expression"), description);
     auto function =
       std::make_unique<Functions::ParsedFunction<dim>>(n_components);
     // deal.II echoes muparser's diagnostics on std::cerr before throwing;

@@ -1,3 +1,5 @@
+#include <deal.II/base/numbers.h>
+
 #include <deal.II/lac/vector.h>
 
 #include <signorini/input_error.h>
@@ -42,6 +44,7 @@ namespace Signorini
     steps             = prm.get_integer("Load steps");
     factor_expression = prm.get("Load factor");
     prm.leave_subsection();
+    refuse_random_numbers(factor_expression, "Contact/Load factor");
     factor_function = std::make_unique<FunctionParser<1>>(1);
     // (muparser's diagnostics on std::cerr: the message says the same)
     std::ostringstream    muparser_diagnostics;
@@ -49,15 +52,29 @@ namespace Signorini
       std::cerr.rdbuf(muparser_diagnostics.rdbuf());
     try
       {
-        factor_function->initialize("t", factor_expression, {});
+        // the constants every other expression has (ParsedFunction's)
+        factor_function->initialize("t",
+                                    factor_expression,
+                                    {{"pi", numbers::PI}, {"Pi", numbers::PI}});
         factor_function->value(Point<1>(1.)); // forces muparser to parse
         std::cerr.rdbuf(cerr_buffer);
       }
-    catch (...)
+    catch (const ExceptionBase &exc)
       {
         std::cerr.rdbuf(cerr_buffer);
+        std::ostringstream text;
+        exc.print_info(text);
+        throw InputError(
+          "Contact/Load factor: <" + factor_expression +
+          "> is not a function of t alone: " + one_line_message(text.str()));
+      }
+    catch (...)
+      {
+        // (muparser's mu::ParserError derives from nothing standard)
+        std::cerr.rdbuf(cerr_buffer);
         throw InputError("Contact/Load factor: <" + factor_expression +
-                         "> is not a function of t");
+                         "> is not a function of t alone: the expression "
+                         "parser refused it");
       }
     // every value used, now: a NaN at some step is an input error
     for (unsigned int k = 1; k <= steps; ++k)

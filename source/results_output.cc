@@ -5,6 +5,8 @@
 
 #include <deal.II/fe/fe_simplex_p.h>
 
+#include <deal.II/grid/grid_tools.h>
+
 #include <deal.II/numerics/data_out.h>
 
 #include <signorini/adaptation/mesh_quality.h>
@@ -21,6 +23,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <sstream>
 
 namespace Signorini
 {
@@ -45,6 +48,14 @@ namespace Signorini
     public:
       using DataOut<dim>::get_dataset_names;
     };
+
+
+
+    /// What a message about the VTU's single precision suggests.
+    const std::string single_precision_remedy =
+      ": choose units (of length, and of stress for Material/Young modulus "
+      "and the loads) that keep the values within it, or set Output/Write "
+      "vtu = false";
 
 
 
@@ -76,10 +87,8 @@ namespace Signorini
       first_overflow = Utilities::MPI::min(first_overflow, communicator);
       coordinates    = Utilities::MPI::logical_or(coordinates, communicator);
       const std::string units =
-        " beyond the single precision of the VTU output (3.4e38): choose "
-        "units (of length, and of stress for Material/Young modulus and the "
-        "loads) that keep the values within it, or set Output/Write vtu = "
-        "false";
+        " beyond the single precision of the VTU output (3.4e38)" +
+        single_precision_remedy;
       const std::vector<std::string> names = data_out.get_dataset_names();
       if (coordinates)
         throw InputError(what + ": mesh coordinates" + units);
@@ -88,6 +97,49 @@ namespace Signorini
           what + ": the field " +
           (first_overflow < names.size() ? names[first_overflow] : "?") +
           " reaches values" + units);
+    }
+
+
+
+    /**
+     * Throw an InputError if the displacements, the stresses or the forces
+     * of @p computation, by their scales, are not zero but below the
+     * smallest normal single precision number: DataOut would silently
+     * write zeros or subnormal values into the VTU file, though the CSV
+     * tables hold them. The scales, not the fields' values: a field that is
+     * round-off (the stresses of a rigid motion) may well be written as 0.
+     * The same decision on every rank.
+     */
+    template <int dim>
+    void
+    refuse_below_single_precision(const std::string             &what,
+                                  const ContactComputation<dim> &computation)
+    {
+      // (the bounding box's diagonal: GridTools::diameter() compares the
+      // boundary vertices pairwise)
+      const auto corners = GridTools::compute_bounding_box(
+                             computation.dof_handler().get_triangulation())
+                             .get_boundary_points();
+      const double length       = corners.first.distance(corners.second);
+      const double displacement = computation.displacement().linfty_norm();
+      const double stress =
+        computation.material().young_modulus * displacement / length;
+      const std::pair<const char *, double> scales[] = {
+        {"mesh coordinates (the diameter)", length},
+        {"displacements", displacement},
+        {"stresses (E |u|/diameter)", stress},
+        {"nodal forces (E |u| diameter^(dim-2))",
+         stress * std::pow(length, dim - 1)}};
+      for (const auto &[name, scale] : scales)
+        if (scale > 0. && scale < std::numeric_limits<float>::min())
+          {
+            std::ostringstream text;
+            text << what << ": the " << name << " are of the order of " << scale
+                 << ", below the single precision of the VTU output "
+                    "(1.2e-38)"
+                 << single_precision_remedy;
+            throw InputError(text.str());
+          }
     }
   } // namespace
 
@@ -852,6 +904,7 @@ namespace Signorini
       }
     data_out.build_patches(computation.mapping());
     refuse_beyond_single_precision(what, data_out, mpi_communicator);
+    refuse_below_single_precision(what, computation);
     // zlib's fastest level: deal.II's default, its best, takes 3 times as
     // long for files about 10 % smaller (bench/small_runs)
     DataOutBase::VtkFlags vtk_flags;

@@ -49,6 +49,15 @@ namespace Signorini
                  const std::string &description);
 
   /**
+   * Throw an InputError naming @p description if @p expression calls the
+   * function parser's rand() or rand_seed(): their values differ between
+   * runs, threads and MPI ranks, so that no result would be reproducible.
+   */
+  void
+  refuse_random_numbers(const std::string &expression,
+                        const std::string &description);
+
+  /**
    * Collapse a multi-line deal.II exception text into its informative line(s).
    */
   std::string
