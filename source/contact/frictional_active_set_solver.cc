@@ -561,9 +561,8 @@ namespace Signorini
             const double next = mu * std::max(y[i], 0.);
             change            = std::max(change, std::abs(next - bounds[i]));
             bounds[i]         = next;
-            active[i] =
-              (state.status[i] != FrictionState<dim>::Status::separated);
           }
+        active = sets.active; // (the next Tresca problem starts from it)
         // (the contraction of the map, from the changes above round-off;
         // the reactions too, for a problem driven by its Dirichlet data)
         const double force_scale = std::max(
@@ -598,9 +597,20 @@ namespace Signorini
         previous_change = change;
       }
     // the Coulomb bounds of the solution (the checks measure how far it is
-    // from the Coulomb law, not from the last Tresca problem)
+    // from the Coulomb law, not from the last Tresca problem), and its
+    // statuses: a row out of contact is separated, where the last Tresca
+    // problem let it slide under its bound 0
     for (unsigned int i = 0; i < m; ++i)
-      state.bound[i] = mu * std::max(y[i], 0.);
+      {
+        state.bound[i] = mu * std::max(y[i], 0.);
+        if (!sets.active[i])
+          {
+            state.status[i]           = FrictionState<dim>::Status::separated;
+            state.accumulated_slip[i] = previous != nullptr ?
+                                          previous->accumulated_slip[i] :
+                                          Tensor<1, dim>();
+          }
+      }
     judge_uniqueness(problem, u, y, sets, state, report);
     return report;
   }
@@ -638,13 +648,14 @@ namespace Signorini
     };
 
     const double load_scale = problem.force_scale();
-    // the rows the law acts on: those in contact, and for Tresca with its
-    // own bounds (not the fixed point's mu y) all of GC, in contact or not:
-    // the classical convex problem, whose friction term int s |u_t| has a
+    // the rows the law acts on: those in contact for Coulomb, and all of GC,
+    // in contact or not, for a Tresca problem (its own bounds, or the fixed
+    // point's mu y of the previous iterate, zero where it separated): the
+    // classical convex problem, whose friction term int s |u_t| has a
     // unique minimiser (the law at the rows in contact only may have no
     // solution: a block sheared by Dirichlet data, doc/theory.md)
     const bool everywhere =
-      given_bounds == nullptr && law.type() == FrictionLaw<dim>::Type::tresca;
+      given_bounds != nullptr || law.type() == FrictionLaw<dim>::Type::tresca;
     const auto law_acts = [everywhere](const std::vector<bool> &in_contact) {
       std::vector<bool> rubbing(in_contact);
       if (everywhere)
