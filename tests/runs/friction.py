@@ -185,55 +185,40 @@ subsection Boundary conditions
 end
 """
 
-SHEARED_COULOMB = """
-set Number of cycles = 1
-subsection Mesh
-  set Initial refinements = 1
-end
-subsection Boundary conditions
-  subsection Dirichlet 1
-    set Boundary ids        = 3, 5
-    set Function expression = 0.1*max(2*t-1,0); -0.01*min(2*t,1)
-  end
-  subsection Traction 1
-    set Boundary ids =
-  end
-  subsection Traction 2
-    set Boundary ids =
-  end
-end
-subsection Contact
-  set Friction             = Coulomb
-  set Friction coefficient = 0.3
-  set Load steps           = 2
-  set Load factor          = 1
-end
-subsection Error estimator
-  set Enable = false
-end
-"""
+def held_by_top(top, expression, extra=""):
+    """The block held and moved by the Dirichlet data EXPRESSION on the ids
+    TOP only (no clamp, no loads), estimator off, with EXTRA."""
+    return ("subsection Boundary conditions\n"
+            "  subsection Dirichlet 1\n"
+            f"    set Boundary ids        = {top}\n"
+            f"    set Function expression = {expression}\n"
+            "  end\n"
+            "  subsection Traction 1\n    set Boundary ids =\n  end\n"
+            "  subsection Traction 2\n    set Boundary ids =\n  end\n"
+            "end\n"
+            "subsection Error estimator\n  set Enable = false\nend\n" +
+            extra)
 
-SHEARED = """
-set Number of cycles = 2
-subsection Linear solver
-  set Relative tolerance = 1e-13
-end
-subsection Boundary conditions
-  subsection Dirichlet 1
-    set Boundary ids        = 3
-    set Function expression = 0.1; {v}
-  end
-  subsection Traction 1
-    set Boundary ids =
-  end
-  subsection Traction 2
-    set Boundary ids =
-  end
-end
-subsection Error estimator
-  set Enable = false
-end
-"""
+
+# pressed, then sheared, by the whole top
+SHEARED_COULOMB = held_by_top(
+    "3, 5", "0.1*max(2*t-1,0); -0.01*min(2*t,1)",
+    "set Number of cycles = 1\n"
+    "subsection Mesh\n  set Initial refinements = 1\nend\n"
+    "subsection Contact\n"
+    "  set Friction             = Coulomb\n"
+    "  set Friction coefficient = 0.3\n"
+    "  set Load steps           = 2\n"
+    "  set Load factor          = 1\n"
+    "end\n")
+
+
+def sheared_by_top(v):
+    """Moved by the top's left half to (0.1, V)."""
+    return held_by_top("3", f"0.1; {v}",
+                       "set Number of cycles = 2\n"
+                       "subsection Linear solver\n"
+                       "  set Relative tolerance = 1e-13\nend\n")
 
 
 def sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems):
@@ -252,7 +237,7 @@ def sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems):
                        f"    set Function expression = {threshold}\n"
                        "  end\n")
     held = rows_of("sheared-tresca-1", block,
-                   SHEARED.format(v=-0.01) + tresca(1))
+                   sheared_by_top(-0.01) + tresca(1))
     for row in held:
         if not (row["stick_nodes"] == row["contact_nodes"]
                 and int(row["active_nodes"]) < int(row["contact_nodes"])):
@@ -266,14 +251,14 @@ def sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems):
             problems.append(f"sheared, threshold 1, cycle {row['cycle']}: "
                             f"{len(moved)} nodes slip")
     sliding = on_one_and_two_ranks("sheared-tresca-0.05", block,
-                                   SHEARED.format(v=-0.01) + tresca(0.05))
+                                   sheared_by_top(-0.01) + tresca(0.05))
     if not all(int(r["slip_nodes"]) > 0 for r in sliding):
         problems.append(f"sheared, threshold 0.05: slip nodes "
                         f"{[r['slip_nodes'] for r in sliding]}")
     pressed = rows_of("sheared-pressed", block,
-                      SHEARED.format(v=-0.1) + tresca(1))
+                      sheared_by_top(-0.1) + tresca(1))
     glued = os.path.join(work, "sheared-glued")
-    run(binary, block, glued, 1, SHEARED.format(v=-0.1) + GLUED)
+    run(binary, block, glued, 1, sheared_by_top(-0.1) + GLUED)
     for a, b in zip(pressed, read(os.path.join(glued, "statistics.csv"))):
         e1, e2 = float(a["energy"]), float(b["energy"])
         if not (a["stick_nodes"] == a["active_nodes"] == a["contact_nodes"]
