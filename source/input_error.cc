@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -161,6 +162,21 @@ namespace Signorini
     /// What parse_finite_double() accepts, for messages.
     const std::string double_range = "(magnitude 0 or 1e-308 to 1e308)";
 
+    /// Why parse_finite_double() refuses the number @p text (out of range
+    /// or not finite), for messages.
+    std::string
+    out_of_range_reason(const std::string &text)
+    {
+      errno             = 0;
+      const double read = std::strtod(trimmed(text).c_str(), nullptr);
+      if (std::isfinite(read) && errno == ERANGE &&
+          std::abs(read) < std::numeric_limits<double>::min())
+        return " is too small for double precision (subnormal or "
+               "underflowing to 0): give 0 or a magnitude from 1e-308 to "
+               "1e308";
+      return " is not a finite number " + double_range;
+    }
+
     /// Parse the whole of @p text (blanks around allowed) as a finite double
     /// whose magnitude is 0 or at least DBL_MIN: strtod also takes nan, inf
     /// and hexadecimal floats, and an underflow to 0 or a denormal would
@@ -246,7 +262,7 @@ namespace Signorini
           if (!parse_finite_double(value, number))
             throw InputError(name + entry.back() + " = " +
                              shortened(trimmed(value)) +
-                             " is not a finite number " + double_range);
+                             out_of_range_reason(value));
         }
     }
 
@@ -613,7 +629,7 @@ namespace Signorini
               throw InputError(
                 name + "the value <" + value + "> of " + constant +
                 (out_of_range ?
-                   " is not a finite number " + double_range :
+                   out_of_range_reason(value) :
                    " is not a plain number: constants take numbers "
                    "only, not expressions (write the number, e.g. "
                    "1.5e5, or put the expression into Function "

@@ -184,10 +184,21 @@ namespace Signorini
                 }
               else if (use_outward_normal &&
                        (normal - first_normal).norm() > 1e-8)
-                throw InputError(
-                  "Contact/Direction = " + outward_normal +
-                  " needs a flat contact "
-                  "boundary; GC is curved, give the direction as a vector");
+                {
+                  const auto shown = [](Tensor<1, dim> n) {
+                    for (unsigned int d = 0; d < dim; ++d)
+                      n[d] = (std::abs(n[d]) < 1e-12 ? 0. : n[d]); // (no -0)
+                    return n;
+                  };
+                  std::ostringstream text;
+                  text << "Contact/Direction = " << outward_normal
+                       << " needs one flat contact boundary, but the "
+                          "outward normal of GC (Contact/Boundary ids) is ("
+                       << shown(first_normal) << ") on one face and ("
+                       << shown(normal)
+                       << ") on another: give the direction as a vector";
+                  throw InputError(text.str());
+                }
               for (const unsigned int v : cell->face(f)->vertex_indices())
                 {
                   const unsigned int vertex = cell->face(f)->vertex_index(v);

@@ -1,9 +1,11 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parsed_function.h>
 
 #include <signorini/contact/friction_law.h>
 #include <signorini/input_error.h>
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
 
 namespace Signorini
@@ -52,7 +54,19 @@ namespace Signorini
       prm.enter_subsection("Friction threshold");
       threshold_function =
         parse_function<dim>(prm, 1, "Contact/Friction threshold");
+      const std::string threshold = prm.get("Function expression");
       prm.leave_subsection();
+      // a datum of another law is a mistake the run would not show
+      const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+      if (root && law != Type::coulomb && mu != 0.)
+        std::cout << "Warning: Contact/Friction coefficient = "
+                  << prm.get("Friction coefficient")
+                  << " is not used: it is Coulomb's, and Contact/Friction = "
+                  << name << std::endl;
+      if (root && law != Type::tresca && threshold != "0")
+        std::cout << "Warning: Contact/Friction threshold is not used: it is "
+                     "Tresca's, and Contact/Friction = "
+                  << name << std::endl;
     }
     prm.leave_subsection();
   }
