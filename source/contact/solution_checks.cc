@@ -173,12 +173,13 @@ namespace Signorini
                  SolutionChecks           &checks)
   {
     using Status = typename FrictionState<dim>::Status;
-    // (the forces relative to the bounds, the normal forces, or the forces
-    // of the problem when both vanish: mu = 0, a zero Tresca threshold, no
-    // contact)
+    // (the forces relative to the tangential forces carried, the normal
+    // forces, or the forces of the problem when these vanish: mu = 0, a
+    // zero Tresca threshold, no contact; not to the bounds, of which a
+    // huge one at a sticking node would hide a violation at another)
     double scale_force = std::max(scale_dual, checks.force_scale);
-    for (const double s : state.bound)
-      scale_force = std::max(scale_force, s);
+    for (const auto &f : state.force)
+      scale_force = std::max(scale_force, f.norm());
     scale_force = std::max(scale_force, std::numeric_limits<double>::min());
     const double scale_slip =
       std::max(scale_primal, std::numeric_limits<double>::min());

@@ -440,6 +440,27 @@ def main():
 
     sheared(binary, block, rows_of, on_one_and_two_ranks, work, problems)
 
+    # the friction checks are relative to the forces carried, not to the
+    # bounds: a Tresca threshold that is never reached (every node of the
+    # right half sticks) may be 1e3 or 1e300 without changing them (relative
+    # to 1e300 they were 1e-312, whatever the left half did)
+    unreached = {}
+    for big in ["1e3", "1e300"]:
+        unreached[big] = rows_of(f"tresca-unreached-{big}", block, contact(
+            "  set Friction = Tresca\n"
+            "  subsection Friction threshold\n"
+            f"    set Function expression = x>0.5?{big}:0\n"
+            "  end\n") + "set Number of cycles = 1\n"
+            "subsection Error estimator\n  set Enable = false\nend\n",
+            tolerance=1e-8)  # (near 1e-10 with the integral condition)
+    for key in ["friction_bound", "slip"]:
+        x, y = (float(unreached[big][0][key]) for big in ["1e3", "1e300"])
+        if not abs(x - y) <= 1e-6 * abs(x):
+            problems.append(f"Tresca threshold 1e3 or 1e300 where not "
+                            f"reached: {key} {x} against {y}")
+    print(f"Tresca threshold not reached: friction_bound "
+          f"{[r[0]['friction_bound'] for r in unreached.values()]}")
+
     # the Coulomb block in 2D and 3D on 1 and 2 ranks
     coulomb = pointwise + contact(
         "  set Friction = Coulomb\n  set Friction coefficient = 0.3\n")
