@@ -119,6 +119,11 @@ namespace Signorini
     // the data of the end of the path unless a step is applied
     boundary_data.set_load_step(load_path_, load_path_.n_steps());
     friction_law_.set_time(1.);
+    if (friction_law_.enabled() && gamma_c.boundary_ids().empty())
+      warn_once("friction without contact",
+                "Contact/Friction = " + friction_law_.name() +
+                  " is not used: Contact/Boundary ids is empty",
+                mpi_communicator);
     if (friction_law_.enabled())
       {
         if (contact_solver->name() != "active set")

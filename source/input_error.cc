@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
 #include <deal.II/lac/vector.h>
@@ -692,6 +693,20 @@ namespace Signorini
         }
     }
   } // namespace
+
+
+
+  void
+  warn_once(const std::string &kind,
+            const std::string &text,
+            const MPI_Comm     communicator)
+  {
+    static std::set<std::string> printed;
+    if (!printed.insert(kind).second)
+      return;
+    if (Utilities::MPI::this_mpi_process(communicator) == 0)
+      std::cout << "Warning: " << text << std::endl;
+  }
 
 
 

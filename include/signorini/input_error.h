@@ -2,6 +2,7 @@
 #define signorini_input_error_h
 
 #include <deal.II/base/function_parser.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
 
@@ -56,6 +57,17 @@ namespace Signorini
   void
   refuse_random_numbers(const std::string &expression,
                         const std::string &description);
+
+  /**
+   * Print "Warning: @p text" on rank 0 of @p communicator unless a warning of
+   * this @p kind was printed before in this process: once per run, not per
+   * mesh nor again for the problems of a reference solution or a nested
+   * start.
+   */
+  void
+  warn_once(const std::string &kind,
+            const std::string &text,
+            const MPI_Comm     communicator);
 
   /**
    * Collapse a multi-line deal.II exception text into its informative line(s).

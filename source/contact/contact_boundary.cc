@@ -23,21 +23,6 @@ namespace Signorini
     /// The value of Contact/Direction that asks for the normal of GC.
     const std::string outward_normal = "outward normal";
 
-    /// Print "Warning: @p text" on rank 0 unless a warning of this @p kind
-    /// was printed before in this process: once per run, not per mesh nor
-    /// again for the reference solution's own problem.
-    void
-    warn_once(const std::string &kind,
-              const std::string &text,
-              const MPI_Comm     communicator)
-    {
-      static std::set<std::string> printed;
-      if (!printed.insert(kind).second)
-        return;
-      if (Utilities::MPI::this_mpi_process(communicator) == 0)
-        std::cout << "Warning: " << text << std::endl;
-    }
-
     /// "(x, y)" or "(x, y, z)" with a few digits, for messages
     template <int dim>
     std::string

@@ -1,11 +1,9 @@
-#include <deal.II/base/mpi.h>
 #include <deal.II/base/parsed_function.h>
 
 #include <signorini/contact/friction_law.h>
 #include <signorini/input_error.h>
 
 #include <cmath>
-#include <iostream>
 #include <sstream>
 
 namespace Signorini
@@ -57,16 +55,18 @@ namespace Signorini
       const std::string threshold = prm.get("Function expression");
       prm.leave_subsection();
       // a datum of another law is a mistake the run would not show
-      const bool root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-      if (root && law != Type::coulomb && mu != 0.)
-        std::cout << "Warning: Contact/Friction coefficient = "
-                  << prm.get("Friction coefficient")
-                  << " is not used: it is Coulomb's, and Contact/Friction = "
-                  << name << std::endl;
-      if (root && law != Type::tresca && threshold != "0")
-        std::cout << "Warning: Contact/Friction threshold is not used: it is "
-                     "Tresca's, and Contact/Friction = "
-                  << name << std::endl;
+      if (law != Type::coulomb && mu != 0.)
+        warn_once(
+          "friction coefficient",
+          "Contact/Friction coefficient = " + prm.get("Friction coefficient") +
+            " is not used: it is Coulomb's, and Contact/Friction = " + name,
+          MPI_COMM_WORLD);
+      if (law != Type::tresca && threshold != "0")
+        warn_once("friction threshold",
+                  "Contact/Friction threshold is not used: it is Tresca's, "
+                  "and Contact/Friction = " +
+                    name,
+                  MPI_COMM_WORLD);
     }
     prm.leave_subsection();
   }
