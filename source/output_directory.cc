@@ -37,14 +37,30 @@ namespace Signorini
       if (fs::exists(status) && !fs::is_directory(status))
         return name + "<" + path + "> exists and is not a directory";
       // The directories missing now, deepest first, are removed again after
-      // the check: checking (--validate) leaves the disk as it was.
+      // the check: checking (--validate) leaves the disk as it was. A
+      // symbolic link is not missing, even one that leads nowhere (it is
+      // the user's: never removed).
       std::vector<fs::path> missing;
       fs::path              dir = fs::absolute(path, ec).lexically_normal();
       if (dir.filename().empty())
         dir = dir.parent_path();
-      for (; !ec && dir.has_relative_path() && !fs::exists(dir, ec);
+      for (; !ec && dir.has_relative_path() &&
+             !fs::exists(fs::symlink_status(dir, ec));
            dir = dir.parent_path())
         missing.push_back(dir);
+      for (fs::path link = fs::absolute(path, ec).lexically_normal();
+           !ec && link.has_relative_path();
+           link = link.parent_path())
+        {
+          std::error_code link_ec, target_ec;
+          if (fs::is_symlink(fs::symlink_status(link, link_ec)) &&
+              !fs::exists(fs::status(link, target_ec)))
+            return name + "<" + link.string() +
+                   "> is a symbolic link to nothing (its target is missing, "
+                   "or the links loop): " +
+                   (target_ec ? target_ec.message() : "not found") +
+                   "; fix the link or choose another directory";
+        }
       std::string problem;
       fs::create_directories(path, ec);
       if (ec)
