@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <gmsh.h>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -938,6 +939,101 @@ namespace Signorini
 
 
 
+    /// Throw if the ASCII msh file @p path holds a tag that Gmsh would read
+    /// into a 32-bit int (it wraps silently: 2^32 + 2 becomes the id 2): the
+    /// physical and entity tags of msh 4 ($Entities), every number of the
+    /// element lines of msh 2, the tags of $PhysicalNames.
+    void
+    check_tags_fit_int(const std::string &path)
+    {
+      std::ifstream in(path);
+      std::string   line, section;
+      double        version = 0;
+      const auto    largest =
+        static_cast<long double>(std::numeric_limits<int>::max());
+      const auto refuse = [&](const std::string &what, const std::string &tag) {
+        throw std::runtime_error(
+          section + ": " + what + " " + tag +
+          " is beyond 2147483647, the largest tag Gmsh reads (a 32-bit "
+          "integer, which would silently wrap it to another id)");
+      };
+      // an integer token beyond int, as a tag
+      const auto check = [&](const std::string &token,
+                             const std::string &what) {
+        if (token.find_first_not_of("+-0123456789") == std::string::npos &&
+            std::abs(std::strtold(token.c_str(), nullptr)) > largest)
+          refuse(what, token);
+      };
+      while (std::getline(in, line))
+        {
+          if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+          if (line.rfind("$MeshFormat", 0) == 0)
+            {
+              int file_type = 0;
+              if (!(in >> version >> file_type) || file_type != 0)
+                return; // (binary: the tags are ints already)
+              continue;
+            }
+          if (line.rfind("$End", 0) == 0)
+            {
+              section.clear();
+              continue;
+            }
+          if (line.rfind("$", 0) == 0)
+            {
+              section = line;
+              if (section == "$Entities" && version >= 4)
+                {
+                  // points: tag x y z n physical...; curves, surfaces,
+                  // volumes: tag 6 bounds n physical... n bounding...
+                  std::array<std::size_t, 4> count{};
+                  std::getline(in, line);
+                  std::istringstream header(line);
+                  for (auto &c : count)
+                    header >> c;
+                  for (unsigned int d = 0; d < 4; ++d)
+                    for (std::size_t e = 0; e < count[d]; ++e)
+                      {
+                        if (!std::getline(in, line))
+                          return; // (Gmsh reports the truncation)
+                        std::istringstream       entity(line);
+                        std::string              token;
+                        std::vector<std::string> tokens;
+                        while (entity >> token)
+                          tokens.push_back(token);
+                        const std::size_t n_bounds = d == 0 ? 3 : 6;
+                        if (tokens.size() < n_bounds + 2)
+                          return;
+                        check(tokens[0], "entity tag");
+                        const std::size_t n_physical =
+                          std::strtoul(tokens[n_bounds + 1].c_str(),
+                                       nullptr,
+                                       10);
+                        for (std::size_t k = 0;
+                             k < n_physical && n_bounds + 2 + k < tokens.size();
+                             ++k)
+                          check(tokens[n_bounds + 2 + k], "physical tag");
+                      }
+                }
+              continue;
+            }
+          std::istringstream tokens(line);
+          std::string        token;
+          if (section == "$PhysicalNames")
+            {
+              std::string dimension;
+              if (tokens >> dimension >> token)
+                check(token, "physical tag");
+            }
+          else if (section == "$Elements" && version < 4)
+            while (tokens >> token)
+              check(token, "number");
+        }
+    }
+
+
+
     /// In a child: the mesh of the msh file @p path, as bytes.
     std::string
     read_in_child(const std::string &path)
@@ -1009,6 +1105,15 @@ namespace Signorini
         throw InputError(kind + " file <" + path + "> is empty");
       if (geometry)
         return mesh_geometry(path, dim, max_cells);
+      try
+        {
+          check_tags_fit_int(path);
+        }
+      catch (const std::runtime_error &exc)
+        {
+          throw InputError("cannot read mesh file <" + path +
+                           ">: " + exc.what());
+        }
       try
         {
           return GmshModelMesh::from_bytes(
