@@ -153,7 +153,10 @@ namespace Signorini
                       "output",
                       Patterns::DirectoryName(),
                       "Where the VTU/PVD files, the CSV tables and the "
-                      "parameters used are written (created if needed). A "
+                      "parameters used are written (created if needed; a "
+                      "relative path is taken from the working directory, "
+                      "where mesh files are taken from the parameter "
+                      "file's). A "
                       "run first deletes the files of the previous run there, "
                       "as listed in .signorini-manifest, and nothing else.");
     prm.enter_subsection("Output");
