@@ -217,9 +217,12 @@ namespace Signorini
       results.size_prediction(size_predictor->name(), prediction);
     const auto refuse = [&](const std::string &size) {
       return std::runtime_error(
-        "Maximum cells: the adapted mesh of cycle " + std::to_string(cycle) +
-        " would have " + size + " cells, more than Maximum cells = " +
-        cell_count(max_cells) + " (outputs of " +
+        "Maximum cells: the " +
+        std::string(size_predictor->refines_uniformly() ? "uniformly refined" :
+                                                          "adapted") +
+        " mesh of cycle " + std::to_string(cycle) + " would have " + size +
+        " cells, more than Maximum cells = " + cell_count(max_cells) +
+        " (outputs of " +
         (cycle == 1 ? "cycle 0" : "cycles 0 to " + std::to_string(cycle - 1)) +
         " written)");
     };

@@ -1,4 +1,5 @@
 #include <signorini/adaptation/optimal_size.h>
+#include <signorini/input_error.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +66,12 @@ namespace Signorini
     prm.enter_subsection("Mesh adaptation");
     rate          = prm.get_double("Convergence rate");
     singular_rate = prm.get_double("Singular rate");
+    if (singular_rate > rate)
+      throw InputError(
+        "Mesh adaptation/Singular rate = " + prm.get("Singular rate") +
+        " is above Convergence rate = " + prm.get("Convergence rate") +
+        ": it is the reduced rate of the elements at singular "
+        "points, at most the convergence rate");
     minimum_ratio = prm.get_double("Minimum size ratio");
     maximum_ratio = prm.get_double("Maximum size ratio");
     prm.leave_subsection();
