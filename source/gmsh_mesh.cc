@@ -957,10 +957,11 @@ namespace Signorini
           " is beyond 2147483647, the largest tag Gmsh reads (a 32-bit "
           "integer, which would silently wrap it to another id)");
       };
-      // an integer token beyond int, as a tag
+      // an integer token beyond int, as a tag (up to 9 digits it fits)
       const auto check = [&](const std::string &token,
                              const std::string &what) {
-        if (token.find_first_not_of("+-0123456789") == std::string::npos &&
+        if (token.size() > 9 &&
+            token.find_first_not_of("+-0123456789") == std::string::npos &&
             std::abs(std::strtold(token.c_str(), nullptr)) > largest)
           refuse(what, token);
       };
