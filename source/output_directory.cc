@@ -44,10 +44,13 @@ namespace Signorini
       fs::path              dir = fs::absolute(path, ec).lexically_normal();
       if (dir.filename().empty())
         dir = dir.parent_path();
-      for (; !ec && dir.has_relative_path() &&
-             !fs::exists(fs::symlink_status(dir, ec));
-           dir = dir.parent_path())
-        missing.push_back(dir);
+      for (; !ec && dir.has_relative_path(); dir = dir.parent_path())
+        {
+          std::error_code not_found; // (set for a missing path: not an error)
+          if (fs::exists(fs::symlink_status(dir, not_found)))
+            break;
+          missing.push_back(dir);
+        }
       for (fs::path link = fs::absolute(path, ec).lexically_normal();
            !ec && link.has_relative_path();
            link = link.parent_path())
