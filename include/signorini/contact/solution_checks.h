@@ -37,13 +37,16 @@ namespace Signorini
     double complementarity = 0.;
     double residual        = 0.;
     double resultant       = 0.;
-    /// Friction: max (|f_k| - s_k) / max s (the cone or the Tresca disc).
+    /// Friction: max (|f_k| - s_k) (the cone or the Tresca disc) relative
+    /// to the largest tangential force carried, normal force or force of
+    /// the problem (not to the bounds: a huge unreached one hid the rest).
     double friction_bound = 0.;
     /// Friction: the largest slip of a sticking node, relative to the
     /// constraint scale.
     double stick = 0.;
-    /// Friction: max |f_k + s_k t_k / |t_k|| / max s over the sliding nodes
-    /// (the force at the bound, opposing the slip t_k).
+    /// Friction: max |f_k + s_k t_k / |t_k|| over the sliding nodes (the
+    /// force at the bound, opposing the slip t_k), relative as
+    /// friction_bound.
     double slip = 0.;
 
     /// Not a check: the scale of the residual, the largest applied force
