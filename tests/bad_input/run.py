@@ -326,6 +326,11 @@ def main():
     work = tempfile.mkdtemp()
     os.environ["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
     os.environ["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    # Open MPI's session directories in a tree of our own: in the shared
+    # /tmp/ompi.HOST.UID another test's job, ending, removed the tree while
+    # a run of ours created its directory there (orte_init failed, once)
+    mpi_sessions = tempfile.mkdtemp()
+    os.environ["OMPI_MCA_orte_tmpdir_base"] = mpi_sessions
     try:
         runner = Runner(sys.argv[1], sys.argv[2], work)
         with open(os.path.join(HERE, "cases.txt")) as f:
@@ -356,6 +361,7 @@ def main():
         sys.exit(runner.failures != 0)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+        shutil.rmtree(mpi_sessions, ignore_errors=True)
 
 
 if __name__ == "__main__":
