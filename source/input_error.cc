@@ -11,6 +11,7 @@
 #define BOOST_BIND_GLOBAL_PLACEHOLDERS
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
+#include <boost/property_tree/xml_parser.hpp>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -218,26 +219,25 @@ namespace Signorini
         }
     }
 
-    /// The entries of @p prm declared with Patterns::Double, found in the
-    /// JSON description of the declarations (made before the user's text is
-    /// read, so that its bytes cannot upset the JSON parser).
-    std::vector<EntryPath>
-    double_entries(const ParameterHandler &prm)
+    /// The JSON description of the declarations of @p prm (made before the
+    /// user's text is read, so that its bytes cannot upset the JSON parser),
+    /// or an empty tree.
+    boost::property_tree::ptree
+    declarations(const ParameterHandler &prm)
     {
-      std::vector<EntryPath> entries;
+      boost::property_tree::ptree tree;
       try
         {
           std::stringstream json;
           prm.print_parameters(json, ParameterHandler::JSON);
-          boost::property_tree::ptree tree;
           boost::property_tree::read_json(json, tree);
-          collect_double_entries(tree, {}, entries);
         }
       catch (const std::exception &)
         {
-          // no list, no check: the values are read as before
+          // no description: no checks of the values by it
+          tree.clear();
         }
-      return entries;
+      return tree;
     }
 
     /// Throw an InputError for the first of @p entries of @p prm whose value
@@ -362,6 +362,98 @@ namespace Signorini
              (entry.empty() ? "" : shortened(entry) + ": ") + rest;
     }
 
+    /// The name of a .json or .xml entry as deal.II writes it mangled
+    /// ("Friction_20coefficient"), in clear; a clear name is left as it is.
+    std::string
+    demangled(const std::string &name)
+    {
+      std::string clear;
+      for (std::size_t i = 0; i < name.size(); ++i)
+        if (name[i] == '_' && i + 2 < name.size() &&
+            std::isxdigit(static_cast<unsigned char>(name[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(name[i + 2])))
+          {
+            clear +=
+              static_cast<char>(std::stoi(name.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+          }
+        else
+          clear += name[i];
+      return clear;
+    }
+
+    /// The path ("Contact/Friction coefficient") of the first entry under
+    /// @p tree (read from a .json or .xml parameter file, inside the
+    /// subsections @p path) whose value the pattern of its declaration in
+    /// @p declared (the JSON description of the declarations) refuses, or
+    /// "".
+    std::string
+    refused_entry(const boost::property_tree::ptree &declared,
+                  const boost::property_tree::ptree &tree,
+                  const std::string                 &path)
+    {
+      for (const auto &child : tree)
+        {
+          const auto declaration = declared.find(demangled(child.first));
+          if (declaration == declared.not_found())
+            continue;
+          const std::string name =
+            (path.empty() ? "" : path + "/") + declaration->first;
+          const auto value   = child.second.get_optional<std::string>("value");
+          const auto pattern = declaration->second.get_optional<std::string>(
+            "pattern_description");
+          if (!value && !child.second.empty())
+            {
+              const std::string found =
+                refused_entry(declaration->second, child.second, name);
+              if (!found.empty())
+                return found;
+            }
+          else if (pattern)
+            {
+              const std::unique_ptr<Patterns::PatternBase> check =
+                Patterns::pattern_factory(*pattern);
+              if (check && !check->match(value ? *value : child.second.data()))
+                return name;
+            }
+        }
+      return "";
+    }
+
+    /// @p message (deal.II's "The string <v> does not match the given
+    /// pattern", which names no entry) with the path of the refused entry
+    /// of the .json or .xml parameter file @p text in front; @p declared is
+    /// the JSON description of the declarations.
+    std::string
+    with_json_or_xml_entry_name(const std::string                 &message,
+                                const std::string                 &text,
+                                const std::string                 &extension,
+                                const boost::property_tree::ptree &declared)
+    {
+      if (message.find("does not match the given pattern") == std::string::npos)
+        return message;
+      try
+        {
+          boost::property_tree::ptree tree;
+          std::istringstream          input(text);
+          if (extension == ".json")
+            boost::property_tree::read_json(input, tree);
+          else
+            {
+              boost::property_tree::read_xml(input, tree);
+              tree = tree.get_child("ParameterHandler");
+            }
+          const std::string entry = refused_entry(declared, tree, "");
+          if (!entry.empty())
+            return shortened(entry) + ": " + message;
+        }
+      catch (const std::exception &)
+        {
+          // the message as deal.II gave it
+        }
+      return message;
+    }
+
     /// Deepest nesting of included parameter files accepted.
     constexpr unsigned int max_include_depth = 10;
 
@@ -465,7 +557,9 @@ namespace Signorini
       throw InputError(name + ": contains a NUL byte (binary file?)");
     check_line_endings(text, name);
 
-    const std::vector<EntryPath> doubles = double_entries(prm);
+    const boost::property_tree::ptree declared = declarations(prm);
+    std::vector<EntryPath>            doubles;
+    collect_double_entries(declared, {}, doubles);
 
     std::string extension = std::filesystem::path(filename).extension();
     for (char &c : extension)
@@ -541,9 +635,12 @@ namespace Signorini
       {
         std::ostringstream info;
         exc.print_info(info);
+        const std::string message = one_line_message(info.str());
         throw InputError(
           name + ": " +
-          with_entry_name(one_line_message(info.str()), filename, text));
+          (extension == ".prm" ?
+             with_entry_name(message, filename, text) :
+             with_json_or_xml_entry_name(message, text, extension, declared)));
       }
     catch (const std::exception &exc)
       {
