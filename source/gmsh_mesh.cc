@@ -905,50 +905,21 @@ namespace Signorini
 
 
 
-    /// The number of elements the $Elements section of the ASCII msh file
-    /// @p path announces (0 if the file is binary or has no such header):
-    /// Gmsh stops at the announced number of element blocks, so that a
-    /// wrong one silently drops elements.
+    /// Read the ASCII msh file @p path before Gmsh does. Throw if it holds
+    /// a tag that Gmsh would read into a 32-bit int (it wraps silently:
+    /// 2^32 + 2 becomes the id 2): the physical and entity tags of msh 4
+    /// ($Entities), every number of the element lines of msh 2, the tags of
+    /// $PhysicalNames. Return the number of elements its $Elements section
+    /// announces (0 if the file is binary or has no such header): Gmsh
+    /// stops at the announced number of element blocks, so that a wrong one
+    /// silently drops elements.
     std::size_t
-    announced_elements(const std::string &path)
-    {
-      std::ifstream in(path);
-      std::string   line;
-      bool          binary  = false;
-      double        version = 0;
-      while (std::getline(in, line))
-        {
-          if (line.rfind("$MeshFormat", 0) == 0)
-            {
-              int file_type = 0;
-              if (in >> version >> file_type)
-                binary = file_type != 0;
-            }
-          else if (line.rfind("$Elements", 0) == 0)
-            {
-              std::size_t first = 0, second = 0;
-              if (binary || !(in >> first))
-                return 0;
-              if (version < 4)
-                return first;
-              return (in >> second) ? second : 0;
-            }
-        }
-      return 0;
-    }
-
-
-
-    /// Throw if the ASCII msh file @p path holds a tag that Gmsh would read
-    /// into a 32-bit int (it wraps silently: 2^32 + 2 becomes the id 2): the
-    /// physical and entity tags of msh 4 ($Entities), every number of the
-    /// element lines of msh 2, the tags of $PhysicalNames.
-    void
-    check_tags_fit_int(const std::string &path)
+    scan_ascii_msh(const std::string &path)
     {
       std::ifstream in(path);
       std::string   line, section;
-      double        version = 0;
+      double        version   = 0;
+      std::size_t   announced = 0;
       const auto    largest =
         static_cast<long double>(std::numeric_limits<int>::max());
       const auto refuse = [&](const std::string &what, const std::string &tag) {
@@ -973,7 +944,7 @@ namespace Signorini
             {
               int file_type = 0;
               if (!(in >> version >> file_type) || file_type != 0)
-                return; // (binary: the tags are ints already)
+                return 0; // (binary: the tags are ints already)
               continue;
             }
           if (line.rfind("$End", 0) == 0)
@@ -984,6 +955,20 @@ namespace Signorini
           if (line.rfind("$", 0) == 0)
             {
               section = line;
+              if (section == "$Elements")
+                {
+                  // msh 2: the count; msh 4: the blocks, then the count
+                  std::getline(in, line);
+                  std::istringstream header(line);
+                  std::size_t        first = 0, second = 0;
+                  if (header >> first)
+                    announced = version < 4        ? first :
+                                (header >> second) ? second :
+                                                     0;
+                  std::istringstream numbers(line);
+                  for (std::string number; version < 4 && numbers >> number;)
+                    check(number, "number");
+                }
               if (section == "$Entities" && version >= 4)
                 {
                   // points: tag x y z n physical...; curves, surfaces,
@@ -997,7 +982,7 @@ namespace Signorini
                     for (std::size_t e = 0; e < count[d]; ++e)
                       {
                         if (!std::getline(in, line))
-                          return; // (Gmsh reports the truncation)
+                          return announced; // (Gmsh reports the truncation)
                         std::istringstream       entity(line);
                         std::string              token;
                         std::vector<std::string> tokens;
@@ -1005,7 +990,7 @@ namespace Signorini
                           tokens.push_back(token);
                         const std::size_t n_bounds = d == 0 ? 3 : 6;
                         if (tokens.size() < n_bounds + 2)
-                          return;
+                          return announced;
                         check(tokens[0], "entity tag");
                         const std::size_t n_physical =
                           std::strtoul(tokens[n_bounds + 1].c_str(),
@@ -1031,6 +1016,7 @@ namespace Signorini
             while (tokens >> token)
               check(token, "number");
         }
+      return announced;
     }
 
 
@@ -1074,9 +1060,8 @@ namespace Signorini
           throw std::runtime_error(error.empty() ? "Gmsh cannot read it" :
                                                    error);
         }
-      GmshModelMesh mesh = GmshModelMesh::of_current_model();
+      const GmshModelMesh mesh = GmshModelMesh::of_current_model();
       gmsh::finalize();
-      mesh.n_announced_elements = announced_elements(path);
       return mesh.to_bytes();
     }
 
@@ -1106,9 +1091,10 @@ namespace Signorini
         throw InputError(kind + " file <" + path + "> is empty");
       if (geometry)
         return mesh_geometry(path, dim, max_cells);
+      std::size_t announced = 0;
       try
         {
-          check_tags_fit_int(path);
+          announced = scan_ascii_msh(path);
         }
       catch (const std::runtime_error &exc)
         {
@@ -1117,9 +1103,11 @@ namespace Signorini
         }
       try
         {
-          return GmshModelMesh::from_bytes(
+          GmshModelMesh mesh = GmshModelMesh::from_bytes(
             run_in_gmsh_child([&]() { return read_in_child(path); },
                               "reading " + path));
+          mesh.n_announced_elements = announced;
+          return mesh;
         }
       catch (const std::exception &exc)
         {
