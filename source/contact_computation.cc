@@ -184,7 +184,6 @@ namespace Signorini
   template <int dim>
   void
   ContactComputation<dim>::check_data_scale(
-    const Triangulation<dim>                               &mesh,
     const typename BoundaryConditions<dim>::DataMagnitudes &data) const
   {
     // the stress S the data impose (tractions, body force times the
@@ -192,12 +191,7 @@ namespace Signorini
     // displacement S L / E it causes: the solve and its checks square
     // forces and displacements (norms, energies), so beyond 1e+-140 they
     // underflow or overflow although each datum may look harmless
-    // (L: the diagonal of the bounding box, the diameter to a factor
-    // sqrt(dim) at most, in one pass over the vertices, where
-    // GridTools::diameter() compares the boundary vertices pairwise)
-    const auto corners =
-      GridTools::compute_bounding_box(mesh).get_boundary_points();
-    const double diameter = corners.first.distance(corners.second);
+    const double diameter = mesh_diameter;
     const double young    = std::abs(material_law.young_modulus);
     // (in decimal exponents: S itself may not be a double; log10(0) = -inf
     // drops a datum that is zero)
@@ -240,8 +234,13 @@ namespace Signorini
     TimerOutput::Scope t(timer, "setup");
     nested_start_input.reset();
     check_boundary_ids(mesh);
+    // (the bounding box's diagonal in one pass over the vertices, where
+    // GridTools::diameter() compares the boundary vertices pairwise)
+    const auto corners =
+      GridTools::compute_bounding_box(mesh).get_boundary_points();
+    mesh_diameter = corners.first.distance(corners.second);
     check_data_scale(
-      mesh, boundary_data.check_finite(mapping_fe, mesh, exact_solution));
+      boundary_data.check_finite(mapping_fe, mesh, exact_solution));
     dofs.reinit(mesh);
     dofs.distribute_dofs(fe);
     locally_owned_dofs = dofs.locally_owned_dofs();
@@ -1087,6 +1086,15 @@ namespace Signorini
   ContactComputation<dim>::dof_handler() const
   {
     return dofs;
+  }
+
+
+
+  template <int dim>
+  double
+  ContactComputation<dim>::domain_diameter() const
+  {
+    return mesh_diameter;
   }
 
 

@@ -5,7 +5,6 @@
 
 #include <deal.II/fe/fe_simplex_p.h>
 
-#include <deal.II/grid/grid_tools.h>
 
 #include <deal.II/numerics/data_out.h>
 
@@ -115,12 +114,7 @@ namespace Signorini
     refuse_below_single_precision(const std::string             &what,
                                   const ContactComputation<dim> &computation)
     {
-      // (the bounding box's diagonal: GridTools::diameter() compares the
-      // boundary vertices pairwise)
-      const auto corners = GridTools::compute_bounding_box(
-                             computation.dof_handler().get_triangulation())
-                             .get_boundary_points();
-      const double length       = corners.first.distance(corners.second);
+      const double length       = computation.domain_diameter();
       const double displacement = computation.displacement().linfty_norm();
       const double stress =
         computation.material().young_modulus * displacement / length;

@@ -185,6 +185,11 @@ namespace Signorini
     const DoFHandler<dim> &
     dof_handler() const;
 
+    /// The diagonal of the bounding box of the mesh of setup(): the
+    /// diameter to a factor sqrt(dim), the length scale of the checks.
+    double
+    domain_diameter() const;
+
     const IndexSet &
     locally_relevant_dofs() const;
 
@@ -298,11 +303,11 @@ namespace Signorini
     judge_solution();
 
     /// Throw an InputError when the stresses or the displacements of the
-    /// data (largest magnitudes @p data on @p mesh) are beyond what the
-    /// range of doubles holds in their squares.
+    /// data (largest magnitudes @p data on the mesh of diameter
+    /// domain_diameter()) are beyond what the range of doubles holds in
+    /// their squares.
     void
     check_data_scale(
-      const Triangulation<dim>                               &mesh,
       const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
 
     TimerOutput &timer;
@@ -347,6 +352,7 @@ namespace Signorini
     const FESystem<dim>  fe;
     const MappingFE<dim> mapping_fe;
     DoFHandler<dim>      dofs;
+    double               mesh_diameter = 0.;
     IndexSet             locally_owned_dofs;
     IndexSet             relevant_dofs;
     // Constraints: hanging nodes, Dirichlet data, and both merged (with and
