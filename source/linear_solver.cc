@@ -569,7 +569,9 @@ namespace Signorini
       std::tuple<types::global_dof_index, types::global_dof_index, double>>
       &springs)
   {
-    Assert(stiffness_matrix != nullptr, ExcNotInitialized());
+    if (stiffness_matrix == nullptr)
+      throw std::logic_error(
+        "ElasticitySolver::solve(): call initialize() first");
     if (!direct && !amg && !aggregation_amg)
       update_preconditioner({});
     const DistributedLines    lines(constraints.get_lines(),

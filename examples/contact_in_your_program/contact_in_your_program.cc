@@ -122,6 +122,13 @@ main(int argc, char **argv)
     {
       Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
       const MPI_Comm                   communicator = MPI_COMM_WORLD;
+      // (a serial Triangulation: every rank would own every dof; on several
+      // ranks, use a parallel::shared::Triangulation, doc/library.md)
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1)
+        {
+          std::cerr << "error: this example runs on one rank" << std::endl;
+          return 1;
+        }
 
       // signorini's parts declare and read their own sections
       ParameterHandler prm;

@@ -6,6 +6,7 @@
 
 #include <signorini/boundary_conditions.h>
 #include <signorini/contact/contact_boundary.h>
+#include <signorini/discretisation_check.h>
 #include <signorini/function_check.h>
 #include <signorini/input_error.h>
 
@@ -126,6 +127,10 @@ namespace Signorini
     const AffineConstraints<double> &dirichlet_constraints,
     const AffineConstraints<double> &hanging_node_constraints)
   {
+    check_discretisation(dof_handler,
+                         "ContactBoundary::reinit()",
+                         &hanging_node_constraints);
+    reinitialised = true;
     nodes.clear();
     multiplier_node_indices.clear();
     contact_cell_count = 0;
@@ -206,6 +211,16 @@ namespace Signorini
             }
         contact_cell_count += cell_touches ? 1 : 0;
       }
+    // (every rank holds the whole mesh: check_discretisation())
+    std::set<types::boundary_id> found;
+    for (const auto &face :
+         dof_handler.get_triangulation().active_face_iterators())
+      if (face->at_boundary())
+        found.insert(face->boundary_id());
+    for (const types::boundary_id id : ids)
+      if (found.count(id) == 0)
+        throw InputError("Contact/Boundary ids: boundary id " +
+                         std::to_string(id) + " is on no face of the mesh");
     if (nodes.empty())
       return;
     if (use_outward_normal)

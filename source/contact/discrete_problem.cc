@@ -113,6 +113,21 @@ namespace Signorini
     , rigid_motions(rigid_motions)
     , linear_solver(linear_solver)
   {
+    // (the order of doc/library.md: a problem of objects not set up gave no
+    // contact at all, or a crash later)
+    if (!boundary.is_reinitialised())
+      throw std::invalid_argument(
+        "DiscreteContactProblem: call ContactBoundary::reinit() first");
+    if (condition.n_boundary_nodes() != boundary.n_nodes() ||
+        condition.n_constraints() != boundary.multiplier_nodes().size())
+      throw std::invalid_argument(
+        "DiscreteContactProblem: the contact condition was not built for "
+        "this contact boundary (" +
+        std::to_string(condition.n_constraints()) + " rows for " +
+        std::to_string(boundary.multiplier_nodes().size()) +
+        " multiplier nodes): call ContactCondition::reinit() after "
+        "ContactBoundary::reinit()");
+    check_constraints_and_matrix();
     const unsigned int r = rigid_motions.size();
     if (r == 0)
       return;
@@ -135,6 +150,65 @@ namespace Signorini
           rigid_rows(i, j) = column[i];
         rigid_load_vector[j] = load_vector * rigid_motions.mode(j);
       }
+  }
+
+
+
+  template <int dim>
+  void
+  DiscreteContactProblem<dim>::check_constraints_and_matrix() const
+  {
+    // the homogeneous constraints: the same dofs, no values (their values
+    // passed for them gave a wrong energy; none, CG without end)
+    std::string mismatch;
+    for (const auto &line : base_constraints.get_lines())
+      if (!homogeneous_base_constraints.is_constrained(line.index))
+        mismatch = "dof " + std::to_string(line.index) +
+                   " is constrained but not in the homogeneous constraints";
+      else if (homogeneous_base_constraints.is_inhomogeneously_constrained(
+                 line.index))
+        mismatch = "dof " + std::to_string(line.index) +
+                   " has a value in the homogeneous constraints";
+    for (const auto &line : homogeneous_base_constraints.get_lines())
+      if (!base_constraints.is_constrained(line.index))
+        mismatch = "dof " + std::to_string(line.index) +
+                   " is in the homogeneous constraints only";
+    // K must be the raw stiffness matrix: constraints condensed into it
+    // leave the rows of the Dirichlet dofs without entries off the
+    // diagonal, and the residuals and checks would be those of another
+    // problem
+    unsigned int   n_fixed = 0, n_bare = 0;
+    const IndexSet owned   = load_vector.locally_owned_elements();
+    for (const auto &line : base_constraints.get_lines())
+      if (line.entries.empty() && owned.is_element(line.index))
+        {
+          ++n_fixed;
+          bool bare = true;
+          for (auto entry = stiffness_matrix.begin(line.index);
+               entry != stiffness_matrix.end(line.index);
+               ++entry)
+            if (entry->column() != line.index && entry->value() != 0.)
+              bare = false;
+          n_bare += bare ? 1 : 0;
+        }
+    const MPI_Comm communicator = load_vector.get_mpi_communicator();
+    n_fixed                     = Utilities::MPI::sum(n_fixed, communicator);
+    n_bare                      = Utilities::MPI::sum(n_bare, communicator);
+    const bool mismatch_anywhere =
+      Utilities::MPI::max(mismatch.empty() ? 0 : 1, communicator) != 0;
+    if (mismatch_anywhere)
+      throw std::invalid_argument(
+        "DiscreteContactProblem: the homogeneous constraints are not the "
+        "constraints without their values" +
+        (mismatch.empty() ? std::string(" (on another rank)") :
+                            ": " + mismatch));
+    if (n_fixed > 0 && n_bare == n_fixed)
+      throw std::invalid_argument(
+        "DiscreteContactProblem: the stiffness matrix looks condensed (no "
+        "row of the " +
+        std::to_string(n_fixed) +
+        " dofs with Dirichlet data has an entry off the diagonal): pass the "
+        "raw matrix and load, without the constraints applied");
   }
 
 

@@ -5,6 +5,7 @@
 
 #include <deal.II/fe/fe_values.h>
 
+#include <signorini/discretisation_check.h>
 #include <signorini/estimator/constitutive_relation_error.h>
 
 #include <limits>
@@ -443,6 +444,12 @@ namespace Signorini
     const FrictionLaw<dim>            *friction_law,
     const FrictionState<dim>          *friction_state)
   {
+    check_discretisation(dof_handler, "ConstitutiveRelationError::estimate()");
+    if (reconstruction == nullptr)
+      throw std::logic_error(
+        "ConstitutiveRelationError::estimate(): no stress reconstruction "
+        "(call parse_parameters() first, with Error estimator/Enable = "
+        "true)");
     check_dirichlet_data(problem.constraints(),
                          dof_handler,
                          boundary_conditions);

@@ -121,6 +121,14 @@ namespace Signorini
     unsigned int
     n_constraints() const;
 
+    /// The number of nodes of GC at the last reinit() (checked against the
+    /// boundary by DiscreteContactProblem: a condition not built for it).
+    unsigned int
+    n_boundary_nodes() const
+    {
+      return n_all_nodes;
+    }
+
     /// B q = W q_N for the given normal displacements of all nodes.
     Vector<double>
     constraint_values(const Vector<double> &normal_displacements) const;

@@ -138,6 +138,13 @@ namespace Signorini
     const std::set<types::boundary_id> &
     boundary_ids() const;
 
+    /// Whether reinit() was called.
+    bool
+    is_reinitialised() const
+    {
+      return reinitialised;
+    }
+
     /// Number of active cells with a face on GC.
     unsigned int
     n_contact_cells() const;
@@ -158,6 +165,7 @@ namespace Signorini
 
     /// Contact/Boundary ids
     std::set<types::boundary_id> ids;
+    bool                         reinitialised = false;
     /// nu_c is the outward normal of a flat GC (found by reinit()) rather
     /// than a given vector.
     bool use_outward_normal = true;

@@ -219,6 +219,12 @@ namespace Signorini
     const AffineConstraints<double> &
     free_body_constraints() const;
 
+    /// Throw std::invalid_argument when the homogeneous constraints are
+    /// not the constraints without their values, or when K looks condensed
+    /// (doc/library.md).
+    void
+    check_constraints_and_matrix() const;
+
     const LA::SparseMatrix          &stiffness_matrix;
     const LA::Vector                &load_vector;
     const AffineConstraints<double> &base_constraints;
