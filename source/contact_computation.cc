@@ -239,8 +239,21 @@ namespace Signorini
     const auto corners =
       GridTools::compute_bounding_box(mesh).get_boundary_points();
     mesh_diameter = corners.first.distance(corners.second);
-    check_data_scale(
-      boundary_data.check_finite(mapping_fe, mesh, exact_solution));
+    const auto magnitudes =
+      boundary_data.check_finite(mapping_fe, mesh, exact_solution);
+    try
+      {
+        check_data_scale(magnitudes);
+      }
+    catch (const InputError &error)
+      {
+        // (the data are those of the end of the load path: its factor may
+        // be what is out of range)
+        const unsigned int last = load_path_.n_steps();
+        if (last > 1 || load_path_.factor(last) != 1.)
+          throw InputError(step_context(last) + error.what());
+        throw;
+      }
     dofs.reinit(mesh);
     dofs.distribute_dofs(fe);
     locally_owned_dofs = dofs.locally_owned_dofs();
@@ -371,7 +384,11 @@ namespace Signorini
     // (the data of a step may be what is not finite: at the step's time)
     try
       {
-        boundary_data.check_finite(mapping_fe, dofs.get_triangulation());
+        // (a factor that brings the step's data out of the range of
+        // doubles, 1e-200 at one step, failed the step's checks at residual
+        // 1 with exit 2)
+        check_data_scale(
+          boundary_data.check_finite(mapping_fe, dofs.get_triangulation()));
         check_friction_threshold();
       }
     catch (const InputError &error)
@@ -388,7 +405,8 @@ namespace Signorini
   {
     std::ostringstream where;
     where << "Contact/Load steps: at step " << step
-          << " (t = " << load_path_.time(step) << "): ";
+          << " (t = " << load_path_.time(step) << ", Load factor "
+          << load_path_.factor(step) << "): ";
     return where.str();
   }
 
