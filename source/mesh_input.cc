@@ -101,6 +101,17 @@ namespace Signorini
     file_mesh_read.reset();
     if (source == Source::file && file_name.empty())
       throw InputError("Mesh/File name is empty but Mesh/Source = file");
+    // a file given for the block is a mistake the run would not show
+    if (source == Source::block)
+      for (const auto &[entry, value] :
+           {std::make_pair("File name", file_name),
+            std::make_pair("Geometry file", geometry_file_name)})
+        if (!value.empty())
+          warn_once(std::string("mesh ") + entry,
+                    std::string("Mesh/") + entry + " = " + value +
+                      " is not used: Mesh/Source = block generates the "
+                      "mesh and its geometry",
+                    MPI_COMM_WORLD);
   }
 
 
