@@ -5,7 +5,6 @@
 
 #include <deal.II/fe/fe_simplex_p.h>
 
-
 #include <deal.II/numerics/data_out.h>
 
 #include <signorini/adaptation/mesh_quality.h>
@@ -517,6 +516,17 @@ namespace Signorini
                "deformation): eps is polluted by round-off; take the rigid "
                "motion out of the data"
             << std::endl;
+    // (a load step that slides far under a small load: the friction term,
+    // the slip of the step times its bound between the nodes, made eps 100 %
+    // for an error of 12 %)
+    if (estimate.eps_contact > 0.9 && !estimate.stress_free)
+      pcout << "Warning: the contact term is " << std::setprecision(3)
+            << 100. * estimate.eps_contact
+            << " % of e^2: eps measures mostly how far the admissible contact "
+               "fields are from the contact law between the nodes, and may "
+               "be far above the error (e.g. a load step whose slip is large "
+               "against its loads)"
+            << std::setprecision(6) << std::endl;
     if (with_timing && !estimate.step_seconds.empty())
       {
         pcout << "   estimate steps (rank 0):";
