@@ -5,6 +5,7 @@
 #include <signorini/input_error.h>
 #include <signorini/output_directory.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -36,6 +37,20 @@ namespace Signorini
       const auto      status = fs::status(path, ec);
       if (fs::exists(status) && !fs::is_directory(status))
         return name + "<" + path + "> exists and is not a directory";
+      // the kernel's own trees (as root, /dev took the tables and files)
+      {
+        const fs::path real = fs::weakly_canonical(fs::absolute(path, ec), ec);
+        for (const char *system : {"/dev", "/proc", "/sys"})
+          {
+            const fs::path tree(system);
+            const auto     mismatch =
+              std::mismatch(tree.begin(), tree.end(), real.begin(), real.end());
+            if (!ec && mismatch.first == tree.end())
+              return name + "<" + path + "> is in " + system +
+                     ", the system's device and kernel files; name a "
+                     "directory for the results";
+          }
+      }
       // The directories missing now, deepest first, are removed again after
       // the check: checking (--validate) leaves the disk as it was. A
       // symbolic link is not missing, even one that leads nowhere (it is
