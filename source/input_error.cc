@@ -420,17 +420,54 @@ namespace Signorini
       return "";
     }
 
+    /// The path of the first entry or subsection under @p tree (read from
+    /// a .json or .xml parameter file, inside the subsections @p path) that
+    /// @p declared (the JSON description of the declarations) lacks, as the
+    /// file writes it, or "".
+    std::string
+    undeclared_entry(const boost::property_tree::ptree &declared,
+                     const boost::property_tree::ptree &tree,
+                     const std::string                 &path)
+    {
+      for (const auto &child : tree)
+        {
+          if (child.first == "<xmlattr>" || child.first == "<xmlcomment>")
+            continue;
+          const std::string name =
+            (path.empty() ? "" : path + "/") + child.first;
+          const auto declaration = declared.find(demangled(child.first));
+          if (declaration == declared.not_found())
+            return name;
+          if (!child.second.get_optional<std::string>("value") &&
+              !child.second.empty())
+            {
+              const std::string found =
+                undeclared_entry(declaration->second, child.second, name);
+              if (!found.empty())
+                return found;
+            }
+        }
+      return "";
+    }
+
     /// @p message (deal.II's "The string <v> does not match the given
     /// pattern", which names no entry) with the path of the refused entry
-    /// of the .json or .xml parameter file @p text in front; @p declared is
-    /// the JSON description of the declarations.
+    /// of the .json or .xml parameter file @p text in front, or for an
+    /// undeclared entry the path of the first name that is not declared;
+    /// @p declared is the JSON description of the declarations.
     std::string
     with_json_or_xml_entry_name(const std::string                 &message,
                                 const std::string                 &text,
                                 const std::string                 &extension,
                                 const boost::property_tree::ptree &declared)
     {
-      if (message.find("does not match the given pattern") == std::string::npos)
+      const bool refused_value =
+        message.find("does not match the given pattern") != std::string::npos;
+      const bool undeclared =
+        message.find("not yet declared") != std::string::npos ||
+        message.find("was declared") != std::string::npos ||
+        message.find("no such subsection") != std::string::npos;
+      if (!refused_value && !undeclared)
         return message;
       try
         {
@@ -443,9 +480,24 @@ namespace Signorini
               boost::property_tree::read_xml(input, tree);
               tree = tree.get_child("ParameterHandler");
             }
-          const std::string entry = refused_entry(declared, tree, "");
-          if (!entry.empty())
-            return shortened(entry) + ": " + message;
+          if (refused_value)
+            {
+              const std::string entry = refused_entry(declared, tree, "");
+              if (!entry.empty())
+                return shortened(entry) + ": " + message;
+            }
+          else
+            {
+              // (deal.II names the entry it looked for, demangled into
+              // other bytes from names like Number_of_cycles, or an entry
+              // inside a misspelt subsection)
+              const std::string entry = undeclared_entry(declared, tree, "");
+              if (!entry.empty())
+                return shortened(entry) +
+                       ": no such entry or subsection is declared (names as "
+                       "in the .prm files, e.g. \"Number of cycles\", or "
+                       "mangled as deal.II writes them, Number_20of_20cycles)";
+            }
         }
       catch (const std::exception &)
         {
