@@ -213,7 +213,7 @@ namespace Signorini
      * theory.md section 8). For each node of GC this tries U^_t - t W^_t
      * (t = 1/4, 1/2, 3/4, 1: less slip at the node) and keeps the best
      * choice if it lowers e^2. Its change is exact for any statically
-     * admissible sigma^: the energy term changes by t^2 d^T K_kk d - 2 t
+     * admissible sigma^: the energy term changes by t^2 d^T K_kk d + 2 t
      * d . g_k, d the node's slip W^_t and g_k = (F - K U^)_k + int_GC R^_t
      * psi_k (int sigma^ : eps(v) = l(v) + int_GC R^ . v), the contact term
      * by its integrals over the faces at the node. Nodes are changed in
@@ -352,7 +352,7 @@ namespace Signorini
           for (unsigned int step = 1; step <= n_steps; ++step)
             {
               const double t      = static_cast<double>(step) / n_steps;
-              const double energy = t * t * curvature[k] - 2. * t * d_dot_g;
+              const double energy = t * t * curvature[k] + 2. * t * d_dot_g;
               const double change =
                 energy + contact_change[n_steps * k + step - 1];
               // (well below round-off of the terms: the same decision on
