@@ -450,6 +450,35 @@ namespace Signorini
       return "";
     }
 
+    /// The path of the first name under @p tree (read from a .xml
+    /// parameter file, inside the subsections @p path) that deal.II cannot
+    /// demangle (an underscore not followed by two hexadecimal digits: its
+    /// demangling reads other bytes, or fails an assertion), or "".
+    std::string
+    undemanglable_name(const boost::property_tree::ptree &tree,
+                       const std::string                 &path)
+    {
+      for (const auto &child : tree)
+        {
+          if (child.first == "<xmlattr>" || child.first == "<xmlcomment>")
+            continue;
+          const std::string &key  = child.first;
+          const std::string  name = (path.empty() ? "" : path + "/") + key;
+          for (std::size_t i = key.find('_'); i != std::string::npos;
+               i             = key.find('_', i + 1))
+            if (i + 2 >= key.size() ||
+                !std::isxdigit(static_cast<unsigned char>(key[i + 1])) ||
+                !std::isxdigit(static_cast<unsigned char>(key[i + 2])))
+              return name;
+            else
+              i += 2;
+          const std::string found = undemanglable_name(child.second, name);
+          if (!found.empty())
+            return found;
+        }
+      return "";
+    }
+
     /// @p message (deal.II's "The string <v> does not match the given
     /// pattern", which names no entry) with the path of the refused entry
     /// of the .json or .xml parameter file @p text in front, or for an
@@ -664,6 +693,26 @@ namespace Signorini
           }
       }
 
+    if (extension == ".xml")
+      try
+        {
+          boost::property_tree::ptree tree;
+          std::istringstream          input(text);
+          boost::property_tree::read_xml(input, tree);
+          const std::string name_found =
+            undemanglable_name(tree.get_child("ParameterHandler",
+                                              boost::property_tree::ptree()),
+                               "");
+          if (!name_found.empty())
+            throw InputError(
+              name + ": " + shortened(name_found) +
+              ": no such entry or subsection is declared (in .xml files "
+              "deal.II reads names mangled, e.g. Number_20of_20cycles)");
+        }
+      catch (const boost::property_tree::ptree_error &)
+        {
+          // (deal.II reports the malformed file)
+        }
     try
       {
         // as ParameterHandler::parse_input(filename) does, from the text
