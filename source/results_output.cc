@@ -599,7 +599,9 @@ namespace Signorini
           << 100. * comparison.eps_ex << " %";
     if (underestimated)
       pcout << " (the reference is not finer than this mesh everywhere: "
-               "eps_ex is underestimated; see Reference solution/Mesh)";
+               "eps_ex and the effectivity are not reliable, the reference's "
+               "own error enters them and the error it cannot resolve does "
+               "not; see Reference solution/Mesh)";
     if (with_estimate)
       {
         statistics_table.add_value("effectivity", comparison.effectivity);
