@@ -294,6 +294,17 @@ namespace Signorini
           }
     if (requested_cells > max_cells)
       throw refuse("about " + cell_count(requested_cells));
+    // (Refined fraction = 0, or equal size ratio bounds of 1: every cycle
+    // recomputed the same mesh, silently)
+    if (std::all_of(level_change.begin(), level_change.end(), [](int k) {
+          return k == 0;
+        }))
+      warn_once("unchanged mesh",
+                "Mesh adaptation: the strategy changes no cell of the mesh of "
+                "cycle " +
+                  std::to_string(cycle - 1) +
+                  ": the next cycles compute on the same mesh",
+                MPI_COMM_WORLD);
     adaptive_mesh.remesh(mesh_input, level_change, triangulation);
     if (triangulation.n_active_cells() > max_cells)
       throw refuse(cell_count(triangulation.n_active_cells()));
