@@ -472,6 +472,10 @@ namespace Signorini
               return name;
             else
               i += 2;
+          // (the children of an entry are deal.II's own: value,
+          // default_value, documentation, pattern, pattern_description)
+          if (child.second.get_optional<std::string>("value"))
+            continue;
           const std::string found = undemanglable_name(child.second, name);
           if (!found.empty())
             return found;
