@@ -92,6 +92,8 @@ namespace Signorini
     std::string bytes;
     put(bytes, node_tags);
     put(bytes, coordinates);
+    // (n_announced_elements: the Gmsh child sends 0, rank 0 the count it
+    // scanned, to the ranks that check the same bytes)
     put(bytes, std::vector<std::uint64_t>{blocks.size(), n_announced_elements});
     for (const Block &block : blocks)
       {
@@ -640,7 +642,10 @@ namespace Signorini
     /// would not see). The boundary faces go into hash grids, one per size
     /// class (cells of 2^l times the smallest face size, a face in the
     /// class of its longest edge, so that a graded mesh puts few faces into
-    /// any cell), and each vertex is compared with the faces near it.
+    /// any cell), entered in every grid cell their box, widened by the
+    /// tolerance, meets; each vertex is compared with the faces of its own
+    /// grid cell in each class (one look-up per class, not one per
+    /// neighbouring cell: most vertices meet an empty cell).
     template <int dim>
     void
     MeshChecker<dim>::check_hanging_nodes() const
@@ -668,6 +673,7 @@ namespace Signorini
         return;
       const double smallest =
         *std::min_element(face_size.begin(), face_size.end());
+      const double tolerance = distance_tolerance * diameter;
       using GridCell = std::array<long long, dim + 1>; // level, then indices
       const auto index =
         [&](const double coordinate, const unsigned int d, const int level) {
@@ -692,8 +698,8 @@ namespace Signorini
                   a = std::min(a, point(boundary_faces[f][k])[d]);
                   b = std::max(b, point(boundary_faces[f][k])[d]);
                 }
-              first[d] = index(a, d, level);
-              last[d]  = index(b, d, level);
+              first[d] = index(a - tolerance, d, level);
+              last[d]  = index(b + tolerance, d, level);
             }
           GridCell cell;
           cell[0] = level;
@@ -708,69 +714,64 @@ namespace Signorini
               }
         }
 
-      const double tolerance = distance_tolerance * diameter;
       for (unsigned int v = 0; v < node_of_vertex.size(); ++v)
         for (int level = 0; level < n_levels; ++level)
-          for (unsigned int neighbour = 0; neighbour < n_neighbours<dim>;
-               ++neighbour)
-            {
-              const Point<dim> p = point(v);
-              GridCell         cell;
-              cell[0]           = level;
-              unsigned int code = neighbour;
-              for (unsigned int d = 0; d < dim; ++d, code /= 3)
-                cell[d + 1] =
-                  index(p[d], d, level) + static_cast<long long>(code % 3) - 1;
-              const auto range = grid.equal_range(cell);
-              for (auto q = range.first; q != range.second; ++q)
-                {
-                  const FaceKey &face = boundary_faces[q->second];
-                  if (std::find(face.begin(), face.end(), v) != face.end())
-                    continue;
-                  // p's projection onto the face's plane (line), in the
-                  // barycentric coordinates of the face: the Gram system
-                  const Point<dim>                    a = point(face[0]);
-                  Tensor<1, dim - 1>                  rhs;
-                  Tensor<2, dim - 1>                  gram;
-                  std::array<Tensor<1, dim>, dim - 1> edges;
-                  for (unsigned int i = 0; i + 1 < dim; ++i)
-                    edges[i] = point(face[i + 1]) - a;
-                  for (unsigned int i = 0; i + 1 < dim; ++i)
-                    {
-                      rhs[i] = edges[i] * (p - a);
-                      for (unsigned int j = 0; j + 1 < dim; ++j)
-                        gram[i][j] = edges[i] * edges[j];
-                    }
-                  const Tensor<1, dim - 1> lambda = invert(gram) * rhs;
-                  Tensor<1, dim>           offset = p - a;
-                  double                   sum    = 0;
-                  bool                     inside = true;
-                  for (unsigned int i = 0; i + 1 < dim; ++i)
-                    {
-                      offset -= lambda[i] * edges[i];
-                      sum += lambda[i];
-                      inside = inside && lambda[i] >= -distance_tolerance;
-                    }
-                  if (inside && sum <= 1 + distance_tolerance &&
-                      offset.norm() <= tolerance)
-                    {
-                      std::string corners;
-                      for (unsigned int k = 0; k < dim; ++k)
-                        corners += (k == 0       ? "" :
-                                    k + 1 == dim ? " and " :
-                                                   ", ") +
-                                   std::to_string(
-                                     model.node_tags[node_of_vertex[face[k]]]);
-                      fail("node " + node_text(node_of_vertex[v]) +
-                           " lies on the boundary " +
-                           (dim == 2 ? "edge" : "face") + " between nodes " +
-                           corners + " without being a corner of its " +
-                           cell_name +
-                           " (a hanging node): the mesh is not conforming "
-                           "there");
-                    }
-                }
-            }
+          {
+            const Point<dim> p = point(v);
+            GridCell         cell;
+            cell[0] = level;
+            for (unsigned int d = 0; d < dim; ++d)
+              cell[d + 1] = index(p[d], d, level);
+            const auto range = grid.equal_range(cell);
+            for (auto q = range.first; q != range.second; ++q)
+              {
+                const FaceKey &face = boundary_faces[q->second];
+                if (std::find(face.begin(), face.end(), v) != face.end())
+                  continue;
+                // p's projection onto the face's plane (line), in the
+                // barycentric coordinates of the face: the Gram system
+                const Point<dim>                    a = point(face[0]);
+                Tensor<1, dim - 1>                  rhs;
+                Tensor<2, dim - 1>                  gram;
+                std::array<Tensor<1, dim>, dim - 1> edges;
+                for (unsigned int i = 0; i + 1 < dim; ++i)
+                  edges[i] = point(face[i + 1]) - a;
+                for (unsigned int i = 0; i + 1 < dim; ++i)
+                  {
+                    rhs[i] = edges[i] * (p - a);
+                    for (unsigned int j = 0; j + 1 < dim; ++j)
+                      gram[i][j] = edges[i] * edges[j];
+                  }
+                const Tensor<1, dim - 1> lambda = invert(gram) * rhs;
+                Tensor<1, dim>           offset = p - a;
+                double                   sum    = 0;
+                bool                     inside = true;
+                for (unsigned int i = 0; i + 1 < dim; ++i)
+                  {
+                    offset -= lambda[i] * edges[i];
+                    sum += lambda[i];
+                    inside = inside && lambda[i] >= -distance_tolerance;
+                  }
+                if (inside && sum <= 1 + distance_tolerance &&
+                    offset.norm() <= tolerance)
+                  {
+                    std::string corners;
+                    for (unsigned int k = 0; k < dim; ++k)
+                      corners += (k == 0       ? "" :
+                                  k + 1 == dim ? " and " :
+                                                 ", ") +
+                                 std::to_string(
+                                   model.node_tags[node_of_vertex[face[k]]]);
+                    fail("node " + node_text(node_of_vertex[v]) +
+                         " lies on the boundary " +
+                         (dim == 2 ? "edge" : "face") + " between nodes " +
+                         corners + " without being a corner of its " +
+                         cell_name +
+                         " (a hanging node): the mesh is not conforming "
+                         "there");
+                  }
+              }
+          }
     }
 
 

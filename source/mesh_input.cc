@@ -56,8 +56,9 @@ namespace Signorini
                         "",
                         Patterns::Anything(),
                         "Gmsh .geo file of the domain of 'File name' (its "
-                        "physical curves the same boundary ids, no mesh size "
-                        "fields): what Mesh adaptation/Realisation = "
+                        "physical curves the same boundary ids; no size "
+                        "fields, transfinite, recombined or boundary-layer "
+                        "entities): what Mesh adaptation/Realisation = "
                         "remeshing meshes anew; a relative path is taken "
                         "from the directory of the parameter file.");
       prm.declare_entry("Block subdivisions",

@@ -177,20 +177,28 @@ namespace Signorini
     // leave the rows of the Dirichlet dofs without entries off the
     // diagonal, and the residuals and checks would be those of another
     // problem
-    unsigned int   n_fixed = 0, n_bare = 0;
-    const IndexSet owned   = load_vector.locally_owned_elements();
+    // (Epetra's row views: deal.II's row iterators copy each row)
+    unsigned int            n_fixed = 0, n_bare = 0;
+    const Epetra_CrsMatrix &matrix = stiffness_matrix.trilinos_matrix();
     for (const auto &line : base_constraints.get_lines())
-      if (line.entries.empty() && owned.is_element(line.index))
-        {
-          ++n_fixed;
-          bool bare = true;
-          for (auto entry = stiffness_matrix.begin(line.index);
-               entry != stiffness_matrix.end(line.index);
-               ++entry)
-            if (entry->column() != line.index && entry->value() != 0.)
-              bare = false;
-          n_bare += bare ? 1 : 0;
-        }
+      {
+        const int local_row = matrix.LRID(
+          static_cast<TrilinosWrappers::types::int_type>(line.index));
+        if (!line.entries.empty() || local_row < 0)
+          continue;
+        ++n_fixed;
+        int     n_entries;
+        double *values;
+        int    *local_columns;
+        matrix.ExtractMyRowView(local_row, n_entries, values, local_columns);
+        bool bare = true;
+        for (int k = 0; k < n_entries; ++k)
+          if (values[k] != 0. &&
+              matrix.ColMap().GID(local_columns[k]) !=
+                static_cast<TrilinosWrappers::types::int_type>(line.index))
+            bare = false;
+        n_bare += bare ? 1 : 0;
+      }
     const MPI_Comm communicator = load_vector.get_mpi_communicator();
     n_fixed                     = Utilities::MPI::sum(n_fixed, communicator);
     n_bare                      = Utilities::MPI::sum(n_bare, communicator);

@@ -204,6 +204,68 @@ namespace Signorini
     }
 
     /**
+     * What lower_friction_term() needs of K on GC, the same in every sweep:
+     * the nodes of GC with a cell in common with each (an entry of K), and
+     * the node's diagonal block K_kk. The same on every rank (each row is
+     * taken from the rank owning it, the others add zeros).
+     */
+    template <int dim>
+    struct ContactNodeCoupling
+    {
+      std::vector<std::vector<unsigned int>> neighbours;
+      std::vector<Tensor<2, dim>>            diagonal_blocks;
+    };
+
+    template <int dim>
+    ContactNodeCoupling<dim>
+    contact_node_coupling(const DiscreteContactProblem<dim> &problem,
+                          const IndexSet                    &owned,
+                          const MPI_Comm                     communicator)
+    {
+      const auto        &boundary  = problem.boundary();
+      const unsigned int n_nodes   = boundary.n_nodes();
+      const auto        &stiffness = problem.stiffness();
+      std::map<types::global_dof_index, std::pair<unsigned int, unsigned int>>
+        node_of_dof; // (node, component)
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        for (unsigned int c = 0; c < dim; ++c)
+          node_of_dof[boundary.node(k).dofs[c]] = {k, c};
+      std::vector<unsigned int> pairs;
+      Vector<double>            blocks(n_nodes * dim * dim);
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            const types::global_dof_index dof = boundary.node(k).dofs[c];
+            if (!owned.is_element(dof))
+              continue;
+            for (auto entry = stiffness.begin(dof); entry != stiffness.end(dof);
+                 ++entry)
+              {
+                const auto other = node_of_dof.find(entry->column());
+                if (other == node_of_dof.end())
+                  continue;
+                const auto [j, b] = other->second;
+                if (j != k)
+                  pairs.insert(pairs.end(), {k, j});
+                else
+                  blocks[(k * dim + c) * dim + b] = entry->value();
+              }
+          }
+      Utilities::MPI::sum(blocks, communicator, blocks);
+      ContactNodeCoupling<dim> coupling;
+      coupling.neighbours.resize(n_nodes);
+      for (const auto &part : Utilities::MPI::all_gather(communicator, pairs))
+        for (std::size_t p = 0; p + 1 < part.size(); p += 2)
+          coupling.neighbours[part[p]].push_back(part[p + 1]);
+      coupling.diagonal_blocks.resize(n_nodes);
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        for (unsigned int c = 0; c < dim; ++c)
+          for (unsigned int b = 0; b < dim; ++b)
+            coupling.diagonal_blocks[k][c][b] = blocks[(k * dim + c) * dim + b];
+      return coupling;
+    }
+
+    /**
      * Lower the error bound by the choice of U^ on GC, with friction. Any
      * kinematically admissible U^ gives a bound, and the tangential
      * components of U^ at a node of GC are free (non-penetration concerns
@@ -227,6 +289,7 @@ namespace Signorini
     unsigned int
     lower_friction_term(double                             &predicted_change,
                         const DiscreteContactProblem<dim>  &problem,
+                        const ContactNodeCoupling<dim>     &coupling,
                         const Mapping<dim>                 &mapping,
                         const DoFHandler<dim>              &dof_handler,
                         const AdmissibleContactFields<dim> &fields,
@@ -239,20 +302,17 @@ namespace Signorini
       const MPI_Comm     communicator =
         dof_handler.get_triangulation().get_communicator();
       const IndexSet         owned       = admissible.locally_owned_elements();
-      const auto            &stiffness   = problem.stiffness();
       const auto            &constraints = problem.constraints();
       constexpr unsigned int n_steps     = 4;
 
       // the slip d_k of each node in its free tangential components (each
       // from the rank owning the dof), g_k's first part, and d^T K_kk d
       const LA::Vector residual = problem.residual(admissible);
-      Vector<double> slip(n_nodes * dim), g(n_nodes * dim), curvature(n_nodes);
-      std::map<types::global_dof_index, unsigned int> node_of_dof;
+      Vector<double>   slip(n_nodes * dim), g(n_nodes * dim);
       for (unsigned int k = 0; k < n_nodes; ++k)
         for (unsigned int c = 0; c < dim; ++c)
           {
             const types::global_dof_index dof = boundary.node(k).dofs[c];
-            node_of_dof[dof]                  = k;
             if (c != c_star && owned.is_element(dof) &&
                 !constraints.is_constrained(dof))
               {
@@ -261,30 +321,14 @@ namespace Signorini
               }
           }
       Utilities::MPI::sum(slip, communicator, slip);
-      // the pairs of nodes of GC with a cell in common (an entry of K)
-      std::vector<unsigned int> pairs;
+      // (c_star's slip is zero)
+      std::vector<double> curvature(n_nodes, 0.);
       for (unsigned int k = 0; k < n_nodes; ++k)
         for (unsigned int c = 0; c < dim; ++c)
-          {
-            const types::global_dof_index dof = boundary.node(k).dofs[c];
-            if (!owned.is_element(dof))
-              continue;
-            for (auto entry = stiffness.begin(dof); entry != stiffness.end(dof);
-                 ++entry)
-              {
-                const auto other = node_of_dof.find(entry->column());
-                if (other == node_of_dof.end())
-                  continue;
-                if (other->second != k)
-                  pairs.insert(pairs.end(), {k, other->second});
-                if (c != c_star)
-                  for (unsigned int b = 0; b < dim; ++b)
-                    if (b != c_star && other->second == k &&
-                        entry->column() == boundary.node(k).dofs[b])
-                      curvature[k] +=
-                        slip[dim * k + c] * entry->value() * slip[dim * k + b];
-              }
-          }
+          for (unsigned int b = 0; b < dim; ++b)
+            curvature[k] += slip[dim * k + c] *
+                            coupling.diagonal_blocks[k][c][b] *
+                            slip[dim * k + b];
 
       // the contact term's changes, and int_GC R^_t psi_k into g
       std::vector<double> contact_change(n_nodes * n_steps, 0.);
@@ -326,17 +370,7 @@ namespace Signorini
             }
         });
       Utilities::MPI::sum(g, communicator, g);
-      Utilities::MPI::sum(curvature, communicator, curvature);
       Utilities::MPI::sum(contact_change, communicator, contact_change);
-      pairs = [&]() {
-        std::vector<unsigned int> all;
-        for (const auto &part : Utilities::MPI::all_gather(communicator, pairs))
-          all.insert(all.end(), part.begin(), part.end());
-        return all;
-      }();
-      std::vector<std::vector<unsigned int>> neighbours(n_nodes);
-      for (std::size_t p = 0; p + 1 < pairs.size(); p += 2)
-        neighbours[pairs[p]].push_back(pairs[p + 1]);
 
       // the changes, in increasing order of the nodes
       std::vector<bool> blocked(n_nodes, false);
@@ -368,7 +402,7 @@ namespace Signorini
             }
           if (best_t == 0.)
             continue;
-          for (const unsigned int j : neighbours[k])
+          for (const unsigned int j : coupling.neighbours[k])
             blocked[j] = true;
           // (from where the node slides: t = 1 leaves no slip at all,
           // where U^ - d would leave the round-off of the difference)
@@ -558,12 +592,17 @@ namespace Signorini
     // predicted below 1e-3 of e^2 gave an e^2 larger by 5e-4)
     if (with_friction && boundary.n_nodes() > 0)
       {
-        LA::Vector less_slip(admissible_displacement);
-        double     predicted_change = 0.;
+        LA::Vector                     less_slip(admissible_displacement);
+        double                         predicted_change = 0.;
+        const ContactNodeCoupling<dim> coupling =
+          contact_node_coupling(problem,
+                                less_slip.locally_owned_elements(),
+                                communicator);
         // (the nodes next to a changed one, in further sweeps)
         for (unsigned int sweep = 0; sweep < 8; ++sweep)
           if (lower_friction_term(predicted_change,
                                   problem,
+                                  coupling,
                                   mapping,
                                   dof_handler,
                                   fields,
