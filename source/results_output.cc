@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <sstream>
 
 namespace Signorini
@@ -57,37 +58,51 @@ namespace Signorini
 
 
 
-    /**
-     * Throw an InputError naming the field (or the mesh coordinates) if a
-     * value built into @p data_out is beyond what the VTU file holds:
-     * deal.II writes Float32, so a finite double beyond 3.4e38 has become
-     * inf in the patches. (A NaN is written on purpose where a local
-     * effectivity is undefined.) The same decision on every rank.
-     */
+    /// Values beyond what the VTU file holds, in the patches of the pieces
+    /// of this rank: deal.II writes Float32, so a finite double beyond
+    /// 3.4e38 has become inf in the patches. (A NaN is written on purpose
+    /// where a local effectivity is undefined.)
+    struct SinglePrecisionOverflow
+    {
+      /// the first data set with an inf (invalid_unsigned_int: none)
+      unsigned int first_field = numbers::invalid_unsigned_int;
+      bool         coordinates = false;
+    };
+
+    /// Add the patches built into @p data_out to @p overflow.
     template <int dim>
     void
-    refuse_beyond_single_precision(const std::string       &what,
-                                   const NamedDataOut<dim> &data_out,
-                                   const MPI_Comm           communicator)
+    scan_single_precision(const NamedDataOut<dim> &data_out,
+                          SinglePrecisionOverflow &overflow)
     {
-      unsigned int first_overflow = numbers::invalid_unsigned_int;
-      bool         coordinates    = false;
       for (const auto &patch : data_out.get_patches())
         {
           for (const auto &vertex : patch.vertices)
             for (unsigned int d = 0; d < dim; ++d)
-              coordinates |= std::isinf(float(vertex[d]));
+              overflow.coordinates |= std::isinf(float(vertex[d]));
           for (unsigned int i = 0; i < patch.data.n_rows(); ++i)
             for (unsigned int j = 0; j < patch.data.n_cols(); ++j)
               if (std::isinf(patch.data(i, j)))
-                first_overflow = std::min(first_overflow, i);
+                overflow.first_field = std::min(overflow.first_field, i);
         }
-      first_overflow = Utilities::MPI::min(first_overflow, communicator);
-      coordinates    = Utilities::MPI::logical_or(coordinates, communicator);
+    }
+
+    /// Throw an InputError naming the field (or the mesh coordinates) if
+    /// any rank found a value beyond single precision. The same decision on
+    /// every rank.
+    void
+    refuse_beyond_single_precision(const std::string              &what,
+                                   const SinglePrecisionOverflow  &overflow,
+                                   const std::vector<std::string> &names,
+                                   const MPI_Comm                  communicator)
+    {
+      const unsigned int first_overflow =
+        Utilities::MPI::min(overflow.first_field, communicator);
+      const bool coordinates =
+        Utilities::MPI::logical_or(overflow.coordinates, communicator);
       const std::string units =
         " beyond the single precision of the VTU output (3.4e38)" +
         single_precision_remedy;
-      const std::vector<std::string> names = data_out.get_dataset_names();
       if (coordinates)
         throw InputError(what + ": mesh coordinates" + units);
       if (first_overflow != numbers::invalid_unsigned_int)
@@ -157,7 +172,15 @@ namespace Signorini
       prm.declare_entry("Write vtu",
                         "true",
                         Patterns::Bool(),
-                        "Write solution-CC.vtu and solution.pvd for ParaView.");
+                        "Write solution-CC.vtu (or .pvtu and its pieces) and "
+                        "solution.pvd for ParaView.");
+      prm.declare_entry("Cells per file",
+                        "100000",
+                        Patterns::Integer(1),
+                        "The most cells of one rank in one .vtu file: a rank "
+                        "with more writes them in pieces, one at a time, "
+                        "listed in a .pvtu record (the output's memory is "
+                        "about 1 kB per cell of a piece).");
       prm.declare_entry("Print timing",
                         "true",
                         Patterns::Bool(),
@@ -184,8 +207,9 @@ namespace Signorini
   {
     directory = prm.get("Output directory");
     prm.enter_subsection("Output");
-    with_vtu    = prm.get_bool("Write vtu");
-    with_timing = prm.get_bool("Print timing");
+    with_vtu       = prm.get_bool("Write vtu");
+    cells_per_file = prm.get_integer("Cells per file");
+    with_timing    = prm.get_bool("Print timing");
     Progress::set_interval(with_timing ? 10. : 0.);
     prm.leave_subsection();
   }
@@ -911,45 +935,99 @@ namespace Signorini
             data_out.add_data_vector(dof_handler, ghosted, *effectivity_field);
           }
       }
-    data_out.build_patches(computation.mapping());
-    refuse_beyond_single_precision(what, data_out, mpi_communicator);
+    // DataOut holds the patches of every cell it writes at once (about 0.9
+    // kB per tetrahedron with these fields: 0.6 GB at 590k tetrahedra, more
+    // than the low-memory solve; doc/benchmarks.md): a rank with more than
+    // `Cells per file` cells writes them in pieces of at most that many, one
+    // at a time, each a .vtu file listed in a .pvtu record
+    using cell_iterator = typename Triangulation<dim>::cell_iterator;
+    const Triangulation<dim>  &triangulation = dof_handler.get_triangulation();
+    std::vector<cell_iterator> owned_cells;
+    std::vector<unsigned int>  position(triangulation.n_active_cells(),
+                                       numbers::invalid_unsigned_int);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          position[cell->active_cell_index()] = owned_cells.size();
+          owned_cells.push_back(cell);
+        }
+    const unsigned int n_local_pieces = std::max<std::size_t>(
+      1, (owned_cells.size() + cells_per_file - 1) / cells_per_file);
+    const std::vector<unsigned int> pieces_of_rank =
+      Utilities::MPI::all_gather(mpi_communicator, n_local_pieces);
+    const unsigned int rank =
+      Utilities::MPI::this_mpi_process(mpi_communicator);
+    const unsigned int first_piece =
+      std::accumulate(pieces_of_rank.begin(),
+                      pieces_of_rank.begin() + rank,
+                      0u);
+    const unsigned int n_pieces =
+      std::accumulate(pieces_of_rank.begin(), pieces_of_rank.end(), 0u);
+    std::size_t piece_begin = 0, piece_end = owned_cells.size();
+    if (n_local_pieces > 1)
+      data_out.set_cell_selection(
+        [&](const Triangulation<dim> &tria) -> cell_iterator {
+          return piece_begin < piece_end ? owned_cells[piece_begin] :
+                                           tria.end();
+        },
+        [&](const Triangulation<dim> &tria,
+            const cell_iterator      &cell) -> cell_iterator {
+          const std::size_t next = position[cell->active_cell_index()] + 1;
+          return next < piece_end ? owned_cells[next] : tria.end();
+        });
+    const auto build_piece = [&](const unsigned int p) {
+      piece_begin = owned_cells.size() * p / n_local_pieces;
+      piece_end   = owned_cells.size() * (p + 1) / n_local_pieces;
+      data_out.build_patches(computation.mapping());
+    };
+
+    // every piece checked before any is written
+    SinglePrecisionOverflow overflow;
+    for (unsigned int p = 0; p < n_local_pieces; ++p)
+      {
+        build_piece(p);
+        scan_single_precision(data_out, overflow);
+      }
+    refuse_beyond_single_precision(what,
+                                   overflow,
+                                   data_out.get_dataset_names(),
+                                   mpi_communicator);
     refuse_below_single_precision(what, computation);
     // zlib's fastest level: deal.II's default, its best, takes 3 times as
     // long for files about 10 % smaller (bench/small_runs)
     DataOutBase::VtkFlags vtk_flags;
     vtk_flags.compression_level = DataOutBase::VtkFlags::best_speed;
     data_out.set_flags(vtk_flags);
-    // one file serially; with N ranks a piece per rank and a .pvtu record
-    const unsigned int n_ranks =
-      Utilities::MPI::n_mpi_processes(mpi_communicator);
-    std::string name = base + ".vtu";
-    if (n_ranks > 1)
+    // one file for one piece; else base.PPP.vtu, the pieces numbered rank
+    // by rank, and a .pvtu record
+    if (n_pieces == 1)
       {
-        const unsigned int rank =
-          Utilities::MPI::this_mpi_process(mpi_communicator);
-        const auto piece = [&](const unsigned int r) {
-          return base + "." + Utilities::int_to_string(r, 3) + ".vtu";
-        };
-        std::vector<std::string> pieces;
-        for (unsigned int r = 0; r < n_ranks; ++r)
-          pieces.push_back(piece(r));
-        // rank 0 lists every piece before any is written, so that a run
-        // stopped in between leaves no unlisted file
-        if (root)
-          for (const auto &file : pieces)
-            output_files.record(file);
-        MPI_Barrier(mpi_communicator);
-        output_files.write(piece(rank),
+        const std::string name = base + ".vtu";
+        output_files.write(name,
                            [&](std::ostream &out) { data_out.write_vtu(out); });
-        name = base + ".pvtu";
-        if (root)
-          output_files.write(name, [&](std::ostream &out) {
-            data_out.write_pvtu_record(out, pieces);
-          });
+        return name;
       }
-    else
-      output_files.write(name,
-                         [&](std::ostream &out) { data_out.write_vtu(out); });
+    std::vector<std::string> pieces;
+    for (unsigned int p = 0; p < n_pieces; ++p)
+      pieces.push_back(base + "." + Utilities::int_to_string(p, 3) + ".vtu");
+    // rank 0 lists every piece before any is written, so that a run
+    // stopped in between leaves no unlisted file
+    if (root)
+      for (const auto &file : pieces)
+        output_files.record(file);
+    MPI_Barrier(mpi_communicator);
+    for (unsigned int p = 0; p < n_local_pieces; ++p)
+      {
+        if (n_local_pieces > 1)
+          build_piece(p);
+        output_files.write(pieces[first_piece + p],
+                           [&](std::ostream &out) { data_out.write_vtu(out); });
+      }
+    const std::string name = base + ".pvtu";
+    if (root)
+      output_files.write(name, [&](std::ostream &out) {
+        data_out.write_pvtu_record(out, pieces);
+      });
     return name;
   }
 

@@ -189,10 +189,12 @@ namespace Signorini
     MPI_Comm           mpi_communicator;
     ConditionalOStream pcout;
     std::string        directory;
-    bool               with_vtu    = true;
-    bool               with_timing = true;
-    OutputDirectory    output_files;
-    CsvTable           statistics_table;
+    bool               with_vtu = true;
+    /// Output/Cells per file
+    unsigned int    cells_per_file = 100000;
+    bool            with_timing    = true;
+    OutputDirectory output_files;
+    CsvTable        statistics_table;
     /// eps_ex,E of the current computation (reference_comparison()), empty
     /// if there is none; write() consumes it
     Vector<double> local_exact_error;
