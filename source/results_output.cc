@@ -941,18 +941,14 @@ namespace Signorini
     // `Cells per file` cells writes them in pieces of at most that many, one
     // at a time, each a .vtu file listed in a .pvtu record
     using cell_iterator = typename Triangulation<dim>::cell_iterator;
-    const Triangulation<dim>  &triangulation = dof_handler.get_triangulation();
-    std::vector<cell_iterator> owned_cells;
-    std::vector<unsigned int>  position(triangulation.n_active_cells(),
-                                       numbers::invalid_unsigned_int);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          position[cell->active_cell_index()] = owned_cells.size();
-          owned_cells.push_back(cell);
-        }
-    const unsigned int n_local_pieces = std::max<std::size_t>(
-      1, (owned_cells.size() + cells_per_file - 1) / cells_per_file);
+    const Triangulation<dim> &triangulation = dof_handler.get_triangulation();
+    const auto                range = triangulation.active_cell_iterators();
+    const std::size_t         n_owned =
+      std::count_if(range.begin(), range.end(), [](const auto &cell) {
+        return cell->is_locally_owned();
+      });
+    const unsigned int n_local_pieces =
+      std::max<std::size_t>(1, (n_owned + cells_per_file - 1) / cells_per_file);
     const std::vector<unsigned int> pieces_of_rank =
       Utilities::MPI::all_gather(mpi_communicator, n_local_pieces);
     const unsigned int rank =
@@ -963,21 +959,34 @@ namespace Signorini
                       0u);
     const unsigned int n_pieces =
       std::accumulate(pieces_of_rank.begin(), pieces_of_rank.end(), 0u);
-    std::size_t piece_begin = 0, piece_end = owned_cells.size();
+    // piece p: the owned cells n_owned p / n_local_pieces and on, in
+    // DataOut's order, up to the first of the next piece (or the end)
+    std::vector<cell_iterator> piece_start;
+    unsigned int               piece = 0;
     if (n_local_pieces > 1)
-      data_out.set_cell_selection(
-        [&](const Triangulation<dim> &tria) -> cell_iterator {
-          return piece_begin < piece_end ? owned_cells[piece_begin] :
-                                           tria.end();
-        },
-        [&](const Triangulation<dim> &tria,
-            const cell_iterator      &cell) -> cell_iterator {
-          const std::size_t next = position[cell->active_cell_index()] + 1;
-          return next < piece_end ? owned_cells[next] : tria.end();
-        });
+      {
+        std::size_t k = 0;
+        for (const auto &cell : range)
+          if (cell->is_locally_owned())
+            {
+              if (k == n_owned * piece_start.size() / n_local_pieces)
+                piece_start.push_back(cell);
+              ++k;
+            }
+        piece_start.push_back(triangulation.end());
+        data_out.set_cell_selection(
+          [&](const Triangulation<dim> &) { return piece_start[piece]; },
+          [&](const Triangulation<dim> &tria,
+              const cell_iterator      &cell) -> cell_iterator {
+            typename Triangulation<dim>::active_cell_iterator next = cell;
+            do
+              ++next;
+            while (next != tria.end() && !next->is_locally_owned());
+            return next == piece_start[piece + 1] ? tria.end() : next;
+          });
+      }
     const auto build_piece = [&](const unsigned int p) {
-      piece_begin = owned_cells.size() * p / n_local_pieces;
-      piece_end   = owned_cells.size() * (p + 1) / n_local_pieces;
+      piece = p;
       data_out.build_patches(computation.mapping());
     };
 
