@@ -65,10 +65,11 @@ namespace Signorini
                       "initial mesh) and unless it starts from a previous "
                       "mesh, compute first on coarser meshes, each started "
                       "from the one before, and start the active set method "
-                      "from the last (Frank-Wolfe: no effect): the input "
-                      "mesh with fewer initial refinements, or, without "
-                      "initial refinements, its domain meshed again by Gmsh "
-                      "at coarser sizes.");
+                      "from the last (with friction its stick and slip sets "
+                      "too; Frank-Wolfe, the fixed point and a load path: no "
+                      "effect): the input mesh with fewer initial "
+                      "refinements, or, without initial refinements, its "
+                      "domain meshed again by Gmsh at coarser sizes.");
     prm.declare_entry("Nested start cells",
                       "2000",
                       Patterns::Integer(1),
@@ -147,11 +148,15 @@ namespace Signorini
         throw InputError("boundary id " + std::to_string(id) +
                          " is both a contact id and a Dirichlet/traction id");
 
-    // (the coarser meshes would solve with friction too, for a guess of the
-    // normal active set only: not worth it yet)
-    // (nor on a load path: its first step is a fraction of the load)
-    nested_start = nested && contact_solver->uses_initial_active_set() &&
-                   !friction_law_.enabled() && load_path_.n_steps() == 1;
+    // (with friction the coarser meshes give the stick and slip sets too;
+    // not the fixed point, which starts each Tresca problem afresh, nor a
+    // load path, whose first step is a fraction of the load)
+    nested_start =
+      nested && contact_solver->uses_initial_active_set() &&
+      load_path_.n_steps() == 1 &&
+      (!friction_law_.enabled() ||
+       friction_method ==
+         FrictionalActiveSetSolver<dim>::Method::semismooth_newton);
   }
 
 
@@ -632,8 +637,7 @@ namespace Signorini
 
     const unsigned int n_steps = load_path_.n_steps();
     if (n_steps == 1)
-      solve_step(from_state ? initial_active_set_guess() : std::vector<bool>(),
-                 nullptr);
+      solve_step(from_state ? initial_guess() : InitialGuess(), nullptr);
     else
       {
         // each step from the state of the one before; the summary counts
@@ -655,7 +659,8 @@ namespace Signorini
               solution = 0.;
             try
               {
-                solve_step(cold ? std::vector<bool>() : active_rows,
+                solve_step(cold ? InitialGuess() :
+                                  InitialGuess{active_rows, {}},
                            step > 1 && friction_law_.enabled() ? &previous :
                                                                  nullptr);
               }
@@ -696,7 +701,7 @@ namespace Signorini
   template <int dim>
   void
   ContactComputation<dim>::solve_step(
-    const std::vector<bool>  &guess,
+    const InitialGuess       &guess,
     const FrictionState<dim> *previous_friction)
   {
     const DiscreteContactProblem<dim> problem = contact_problem();
@@ -721,11 +726,12 @@ namespace Signorini
                                        solution,
                                        dual_solution,
                                        friction_state,
-                                       guess,
-                                       previous_friction);
+                                       guess.active,
+                                       previous_friction,
+                                       &guess.friction);
       else
         last_summary.report =
-          contact_solver->solve(problem, solution, dual_solution, guess);
+          contact_solver->solve(problem, solution, dual_solution, guess.active);
     }
     solve_timer.stop();
 
@@ -734,13 +740,29 @@ namespace Signorini
     const double threshold = 1e-8 * max_norm(dual_solution);
     active_rows.assign(dual_solution.size(), false);
     last_summary.n_active = 0;
-    last_contact_state.clear();
+    last_contact_state.assign(dual_solution.size(), {});
+    // (a row's tangential multiplier per unit area: W^T lambda over the
+    // node's area, comparable across meshes)
+    const Vector<double> areas =
+      friction_law_.enabled() ? gamma_c.nodal_areas() : Vector<double>();
     for (unsigned int i = 0; i < dual_solution.size(); ++i)
       {
         active_rows[i] = dual_solution[i] > threshold;
         last_summary.n_active += active_rows[i] ? 1 : 0;
-        last_contact_state.emplace_back(
-          gamma_c.node(gamma_c.multiplier_nodes()[i]).position, active_rows[i]);
+        const unsigned int node = gamma_c.multiplier_nodes()[i];
+        auto              &row  = last_contact_state[i];
+        row.position            = gamma_c.node(node).position;
+        row.in_contact          = active_rows[i];
+        if (friction_law_.enabled() && areas[node] > 0.)
+          {
+            double row_sum = 0.;
+            for (const auto &entry : contact_condition->weight_row(i))
+              row_sum += entry.second;
+            row.sticks =
+              (friction_state.status[i] != FrictionState<dim>::Status::slip);
+            row.tangential_traction =
+              friction_state.force[i] * row_sum / areas[node];
+          }
       }
     last_summary.contact_force = 0.;
     for (const double f : contact_condition->nodal_forces(dual_solution))
@@ -827,22 +849,23 @@ namespace Signorini
 
 
   template <int dim>
-  std::vector<bool>
-  ContactComputation<dim>::initial_active_set_guess() const
+  typename ContactComputation<dim>::InitialGuess
+  ContactComputation<dim>::initial_guess() const
   {
     const ContactState &previous = last_contact_state;
     if (previous.empty())
       return {};
     // A node of the new mesh that is a node of the previous one keeps its
     // state.
-    const auto       &nodes = gamma_c.multiplier_nodes();
-    std::vector<bool> guess(nodes.size(), false);
-    Point<dim>        lower = previous[0].first, upper = lower;
+    const auto  &nodes = gamma_c.multiplier_nodes();
+    InitialGuess guess;
+    guess.active.assign(nodes.size(), false);
+    Point<dim> lower = previous[0].position, upper = lower;
     for (const auto &state : previous)
       for (unsigned int d = 0; d < dim; ++d)
         {
-          lower[d] = std::min(lower[d], state.first[d]);
-          upper[d] = std::max(upper[d], state.first[d]);
+          lower[d] = std::min(lower[d], state.position[d]);
+          upper[d] = std::max(upper[d], state.position[d]);
         }
     const double tolerance = 1e-10 * lower.distance(upper);
     std::vector<std::array<unsigned int, 2>> nearest(nodes.size());
@@ -852,7 +875,7 @@ namespace Signorini
         const Point<dim> &x = gamma_c.node(nodes[i]).position;
         std::vector<std::pair<double, unsigned int>> by_distance;
         for (unsigned int j = 0; j < previous.size(); ++j)
-          by_distance.emplace_back(x.distance(previous[j].first), j);
+          by_distance.emplace_back(x.distance(previous[j].position), j);
         const unsigned int n_nearest =
           std::min<std::size_t>(2, by_distance.size());
         std::partial_sort(by_distance.begin(),
@@ -865,14 +888,39 @@ namespace Signorini
     // A refined mesh keeps every node of the previous one: there a new
     // node lies between two (active if both were). On a mesh made anew the
     // nearest decides.
-    const bool refined = (n_kept == previous.size());
+    const bool        refined = (n_kept == previous.size());
+    std::vector<bool> kept(nodes.size());
     for (unsigned int i = 0; i < nodes.size(); ++i)
       {
-        const bool active0 = previous[nearest[i][0]].second;
-        const bool active1 = previous[nearest[i][1]].second;
-        const bool kept    = gamma_c.node(nodes[i]).position.distance(
-                            previous[nearest[i][0]].first) < tolerance;
-        guess[i] = active0 && (kept || !refined || active1);
+        const bool active0 = previous[nearest[i][0]].in_contact;
+        const bool active1 = previous[nearest[i][1]].in_contact;
+        kept[i]            = gamma_c.node(nodes[i]).position.distance(
+                    previous[nearest[i][0]].position) < tolerance;
+        guess.active[i] = active0 && (kept[i] || !refined || active1);
+      }
+    if (!friction_law_.enabled())
+      return guess;
+
+    // With friction, a node in contact slides if its nearest did (a new
+    // node between two of a refined mesh: if either did), under their
+    // tangential traction (the mean of the two) times its area.
+    const Vector<double> areas = gamma_c.nodal_areas();
+    guess.friction.stick.assign(nodes.size(), true);
+    guess.friction.slip_force.assign(nodes.size(), Tensor<1, dim>());
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      {
+        const auto &state0 = previous[nearest[i][0]];
+        const auto &state1 =
+          (kept[i] || !refined) ? state0 : previous[nearest[i][1]];
+        if (state0.sticks && state1.sticks)
+          continue;
+        double row_sum = 0.;
+        for (const auto &entry : contact_condition->weight_row(i))
+          row_sum += entry.second;
+        guess.friction.stick[i] = false;
+        guess.friction.slip_force[i] =
+          0.5 * (state0.tangential_traction + state1.tangential_traction) *
+          areas[nodes[i]] / row_sum;
       }
     return guess;
   }
@@ -954,8 +1002,10 @@ namespace Signorini
         coarse.reset(new ContactComputation<dim>(*parameters,
                                                  timer,
                                                  /*with_nested_start=*/false));
-        // (the chain of coarser meshes is the point)
+        // (the chain of coarser meshes is the point; their solutions are
+        // guesses, whose uniqueness the fine one's check shows)
         coarse->guess_from_previous_cycle = true;
+        coarse->friction_uniqueness_check = false;
         for (const auto &create_coarser_mesh : coarser_meshes)
           {
             if (shared != nullptr)

@@ -55,9 +55,18 @@ namespace Signorini
   class ContactComputation
   {
   public:
-    /// Where each contact node was and whether it was in contact: what a
-    /// computation on another mesh starts its active set from.
-    using ContactState = std::vector<std::pair<Point<dim>, bool>>;
+    /// A contact row's node, whether it was in contact and, with friction,
+    /// whether it stuck and the tangential traction on it.
+    struct ContactNodeState
+    {
+      Point<dim>     position;
+      bool           in_contact = false;
+      bool           sticks     = true;
+      Tensor<1, dim> tangential_traction;
+    };
+    /// What a computation on another mesh starts its active set (and its
+    /// stick and slip sets) from.
+    using ContactState = std::vector<ContactNodeState>;
 
     /// What the last contact solve found.
     struct Summary
@@ -151,7 +160,10 @@ namespace Signorini
      * current solve starts from the active set and the displacement of the
      * last. The separation point is then found to within a coarse cell on
      * every mesh, so the active-set iterations stop growing with the mesh
-     * (doc/theory.md section 3, doc/benchmarks.md).
+     * (doc/theory.md section 3, doc/benchmarks.md). With friction (the
+     * semismooth Newton route, one load step) the coarser meshes solve
+     * it too, and the current solve starts from their stick and slip sets
+     * and tangential tractions as well.
      */
     void
     enable_nested_start(const MeshInput<dim> &input);
@@ -249,10 +261,19 @@ namespace Signorini
     void
     start_from_coarser_meshes();
 
-    /// The active set of the previous solve (or of the nested start)
-    /// carried to the current contact nodes (empty if there is none).
-    std::vector<bool>
-    initial_active_set_guess() const;
+    /// Where a solve starts: the active set (empty: cold) and, with
+    /// friction, the stick and slip sets (empty: every row in contact
+    /// sticks).
+    struct InitialGuess
+    {
+      std::vector<bool>  active;
+      FrictionGuess<dim> friction;
+    };
+
+    /// The state of the previous solve (or of the nested start) carried to
+    /// the current contact nodes (empty if there is none).
+    InitialGuess
+    initial_guess() const;
 
     /// Throws InputError if a boundary id of the input is not in @p mesh.
     void
@@ -290,12 +311,12 @@ namespace Signorini
     void
     assemble(const bool with_matrix);
 
-    /// Solve the contact problem of the current data from solution and the
-    /// active set @p guess (may be empty), check and judge the solution;
-    /// with friction, sliding against @p previous_friction (the state of
-    /// the previous load step; null: the unloaded state).
+    /// Solve the contact problem of the current data from solution and
+    /// @p guess (may be empty), check and judge the solution; with
+    /// friction, sliding against @p previous_friction (the state of the
+    /// previous load step; null: the unloaded state).
     void
-    solve_step(const std::vector<bool>  &guess,
+    solve_step(const InitialGuess       &guess,
                const FrictionState<dim> *previous_friction);
 
     /// Decide converged() from the solver's report and the checks.

@@ -83,6 +83,20 @@ namespace Signorini
   };
 
   /**
+   * Where the frictional active set method may start (a coarser mesh's
+   * solution): per row, whether it sticks, and the tangential multiplier a
+   * sliding row slides under.
+   */
+  template <int dim>
+  struct FrictionGuess
+  {
+    std::vector<bool>           stick;
+    std::vector<Tensor<1, dim>> slip_force;
+  };
+
+
+
+  /**
    * The sets of the frictional active set method where it stopped, with the
    * sliding nodes' forces and springs and where the nodes slide from: the
    * linear system of its last step.
@@ -126,10 +140,9 @@ namespace Signorini
    * springs), inexact while the sets change (ActiveSetSolver's Inexact
    * tolerance), exact once they hold or repeat. The Coulomb bound s_k =
    * mu y_k is that of the previous step; the method stops, on an exact
-   * step, when the sets repeat and the slip forces have converged to
-   * round-off (they change by at most 1e-14 of the problem's forces, 1e-12
-   * in the Tresca problems of the fixed point, or stop shrinking below 1e-8
-   * of them: the linear solver's tolerance).
+   * step, when the sets repeat and the slip forces have converged (they
+   * change by at most 1e-12 of the problem's forces, or stop shrinking
+   * below 1e-8 of them: the linear solver's tolerance).
    */
   template <int dim>
   class FrictionalActiveSetSolver
@@ -190,7 +203,8 @@ namespace Signorini
      * state the friction. With @p previous (the state of the previous load
      * step on the same mesh) a node slides against where that step left it,
      * and every node in contact starts sticking there (the elastic
-     * predictor); without, against the unloaded state.
+     * predictor); without, against the unloaded state, and from the sets of
+     * @p guess if given (else every node in contact sticks).
      */
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
@@ -198,7 +212,8 @@ namespace Signorini
           Vector<double>                    &y,
           FrictionState<dim>                &state,
           const std::vector<bool>           &initial_active = {},
-          const FrictionState<dim>          *previous       = nullptr) const;
+          const FrictionState<dim>          *previous       = nullptr,
+          const FrictionGuess<dim>          *guess          = nullptr) const;
 
   private:
     /// The method above with the bounds s_k given by @p bounds if not null
@@ -212,7 +227,8 @@ namespace Signorini
                       const std::vector<bool>           &initial_active,
                       const FrictionState<dim>          *previous,
                       const std::vector<double>         *bounds,
-                      FrictionSets<dim>                 &sets) const;
+                      FrictionSets<dim>                 &sets,
+                      const FrictionGuess<dim>          *guess = nullptr) const;
     /// Coulomb: the solution of @p report is refused (not converged) where
     /// the fixed point on the Tresca threshold does not contract at it
     /// (FrictionState::contraction_at_solution >= 1), its uniqueness not
