@@ -823,7 +823,7 @@ namespace Signorini
             const Tensor<1, dim> &slip   = weighted_slip[i];
             const double          weight = rows.weight[i];
             const double          s      = bound(i);
-            largest_bound                = std::max(largest_bound, s);
+            largest_bound                = std::max(largest_bound, s * weight);
             state.status[i]              = !rubbing[i] ?
                                              Status::separated :
                                              (stick[i] ? Status::stick : Status::slip);
@@ -856,18 +856,23 @@ namespace Signorini
                 next_force[i]  = s * xi / xi.norm();
                 next_spring[i] = std::min(s * c_i / (xi.norm() - s), 1e3 * c_i);
                 if (!stick[i] && rubbing[i])
-                  change = std::max(change, (next_force[i] - force).norm());
+                  change =
+                    std::max(change, (next_force[i] - force).norm() * weight);
                 else
                   change = std::numeric_limits<double>::infinity();
               }
           }
         // (the slip forces converge on to 1e-12 and the linear solver's
-        // tolerance, where the change stops shrinking; in the multiplier's
-        // units, relative to the forces of the problem, of which the bounds
-        // may be a small part)
-        const bool   same_sets = (next_active == active && next_stick == stick);
+        // tolerance, where the change stops shrinking; as nodal forces,
+        // W_ii times the multipliers, relative to the forces of the
+        // problem, of which the bounds may be a small part)
+        const bool same_sets = (next_active == active && next_stick == stick);
+        double     normal_force = 0.;
+        for (unsigned int i = 0; i < m; ++i)
+          normal_force =
+            std::max(normal_force, std::abs(y[i]) * rows.weight[i]);
         const double force_scale =
-          std::max({largest_bound, max_norm(y), load_scale, reaction});
+          std::max({largest_bound, normal_force, load_scale, reaction});
         // (1e-12, not round-off: at 1e-14 the last step or two were
         // round-off whose stagnation test decided by the rank count, in a
         // Tresca problem of the fixed point, whose slip forces are exact
