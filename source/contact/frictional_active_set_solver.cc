@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -368,7 +369,8 @@ namespace Signorini
                       "semismooth Newton",
                       Patterns::Selection("semismooth Newton|fixed point"),
                       "Coulomb friction: the active set method with the "
-                      "bound mu y lagged by one step (semismooth Newton), "
+                      "bound mu y lagged by one step (semismooth Newton; "
+                      "where its sets cycle, the fixed point takes over), "
                       "or the fixed point on the Tresca threshold mu y, each "
                       "Tresca problem solved by that method (a second route "
                       "to the same solution, which says when it does not "
@@ -477,6 +479,13 @@ namespace Signorini
     if (method == Method::fixed_point &&
         law.type() == FrictionLaw<dim>::Type::coulomb)
       return solve_fixed_point(problem, u, y, state, initial_active, previous);
+    const auto add_counts =
+      [](typename ContactSolver<dim>::Report       &to,
+         const typename ContactSolver<dim>::Report &from) {
+        to.iterations += from.iterations;
+        to.linear_solves += from.linear_solves;
+        to.linear_iterations += from.linear_iterations;
+      };
     FrictionSets<dim> sets;
     auto              report = solve_with_bounds(
       problem, u, y, state, initial_active, previous, nullptr, sets, guess);
@@ -485,13 +494,30 @@ namespace Signorini
         // the sets of a coarser mesh led the method into a cycle (the
         // integral condition at mu = 1000 on the block) that a cold start
         // avoids: start again from u = 0, every row out of contact
-        const auto guessed_report = report;
-        u                         = 0.;
+        const auto guessed = report;
+        u                  = 0.;
         report =
           solve_with_bounds(problem, u, y, state, {}, previous, nullptr, sets);
-        report.iterations += guessed_report.iterations;
-        report.linear_solves += guessed_report.linear_solves;
-        report.linear_iterations += guessed_report.linear_iterations;
+        add_counts(report, guessed);
+      }
+    if (!report.converged && sets.cycled &&
+        law.type() == FrictionLaw<dim>::Type::coulomb)
+      {
+        // The lagged bound cycles where f -> mu y(f) does not contract at a
+        // row (the integral condition on the block at mu = 5 to 100,
+        // doc/theory.md section 8). The second route then either converges
+        // (mu = 5: a locally unique solution) or says that the map does not
+        // contract, so that there may be several solutions or none.
+        const auto cycled = report;
+        u                 = 0.;
+        report = solve_fixed_point(problem, u, y, state, {}, previous);
+        add_counts(report, cycled);
+        if (!report.converged)
+          report.failure = "its sets cycled (" +
+                           std::to_string(cycled.iterations) +
+                           " iterations), and then " + report.failure;
+        // (the fixed point judged the uniqueness of a solution it found)
+        return report;
       }
     judge_uniqueness(problem, u, y, sets, state, report);
     return report;
@@ -690,8 +716,7 @@ namespace Signorini
     std::vector<bool>           stick(m, true);
     std::vector<Tensor<1, dim>> slip_force(m);
     // (or, in a static problem, from a guess of the sets: those of a
-    // coarser mesh; it gives up when its exact steps return to sets they
-    // left, a cycle)
+    // coarser mesh)
     const bool guessed =
       (guess != nullptr && previous == nullptr && guess->stick.size() == m &&
        guess->slip_force.size() == m);
@@ -700,7 +725,12 @@ namespace Signorini
         stick      = guess->stick;
         slip_force = guess->slip_force;
       }
-    std::set<std::pair<std::vector<bool>, std::vector<bool>>> left_exactly;
+    // how often exact steps left each pair of sets: the method gives up
+    // on a cycle, when they leave a pair for the second time from a guess,
+    // the third time from a cold start
+    std::map<std::pair<std::vector<bool>, std::vector<bool>>, unsigned int>
+                       left_exactly;
+    const unsigned int cycle_leaves = (guessed ? 2 : 3);
     // and the spring k_i across the slip direction n_i = slip_force / s_i
     std::vector<double> spring(m, 0.);
     // where the nodes slide from
@@ -728,7 +758,8 @@ namespace Signorini
     // hold, or a pair of sets repeats (inexact solves may cycle), every
     // solve at the linear solver's tolerance, and only these converge
     // (without rows the first solve is the last)
-    bool exact = (inexact_tolerance == 0. || m == 0);
+    bool exact  = (inexact_tolerance == 0. || m == 0);
+    bool cycled = false;
     std::set<std::pair<std::vector<bool>, std::vector<bool>>> visited;
 
     while (true)
@@ -891,10 +922,12 @@ namespace Signorini
         if (!exact &&
             (same_sets || !visited.emplace(next_active, next_stick).second))
           exact = true;
-        if (guessed && solved_exactly && !same_sets &&
-            !left_exactly.emplace(active, stick).second)
+        if (solved_exactly && !same_sets &&
+            ++left_exactly[{active, stick}] >= cycle_leaves)
           {
-            report.failure = "the sets cycle";
+            cycled         = true;
+            report.failure = "its sets cycled (" +
+                             std::to_string(report.iterations) + " iterations)";
             break;
           }
         if (report.iterations >= max_iterations)
@@ -905,7 +938,7 @@ namespace Signorini
         spring     = next_spring;
       }
 
-    sets = {active, stick, slip_force, spring, origin};
+    sets = {active, stick, slip_force, spring, origin, cycled};
 
     // the relative KKT residual: the normal conditions as
     // ActiveSetSolver's, and the friction cone

@@ -110,6 +110,9 @@ namespace Signorini
     std::vector<double>         spring;
     /// Per node of GC.
     std::vector<Tensor<1, dim>> origin;
+    /// Whether the method stopped because its exact steps kept returning
+    /// to sets they had left (a cycle).
+    bool cycled = false;
   };
 
 
@@ -142,7 +145,10 @@ namespace Signorini
    * mu y_k is that of the previous step; the method stops, on an exact
    * step, when the sets repeat and the slip forces have converged (they
    * change by at most 1e-12 of the problem's forces, or stop shrinking
-   * below 1e-8 of them: the linear solver's tolerance).
+   * below 1e-8 of them: the linear solver's tolerance). Where its exact
+   * steps cycle through sets, a Coulomb problem goes to the fixed point
+   * on the Tresca threshold, which converges or says that it does not
+   * contract.
    */
   template <int dim>
   class FrictionalActiveSetSolver
@@ -204,7 +210,8 @@ namespace Signorini
      * step on the same mesh) a node slides against where that step left it,
      * and every node in contact starts sticking there (the elastic
      * predictor); without, against the unloaded state, and from the sets of
-     * @p guess if given (else every node in contact sticks).
+     * @p guess if given (else every node in contact sticks; a guessed
+     * start whose sets cycle starts again from u = 0, out of contact).
      */
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,
