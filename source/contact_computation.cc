@@ -741,8 +741,8 @@ namespace Signorini
     active_rows.assign(dual_solution.size(), false);
     last_summary.n_active = 0;
     last_contact_state.assign(dual_solution.size(), {});
-    // (a row's tangential multiplier per unit area: W^T lambda over the
-    // node's area, comparable across meshes)
+    // (a row's tangential multiplier as a traction, comparable across
+    // meshes: times the row sum of W, over the node's area)
     const Vector<double> areas =
       friction_law_.enabled() ? gamma_c.nodal_areas() : Vector<double>();
     for (unsigned int i = 0; i < dual_solution.size(); ++i)
