@@ -672,9 +672,7 @@ namespace Signorini
                       << load_path_.factor(step) << "): " << error.what();
                 throw InputError(where.str());
               }
-            path.iterations += last_summary.report.iterations;
-            path.linear_solves += last_summary.report.linear_solves;
-            path.linear_iterations += last_summary.report.linear_iterations;
+            path.add_counts(last_summary.report);
             path_seconds += last_summary.solve_seconds;
             if (load_step_observer)
               load_step_observer(step);
@@ -755,13 +753,11 @@ namespace Signorini
         row.in_contact          = active_rows[i];
         if (friction_law_.enabled() && areas[node] > 0.)
           {
-            double row_sum = 0.;
-            for (const auto &entry : contact_condition->weight_row(i))
-              row_sum += entry.second;
             row.sticks =
               (friction_state.status[i] != FrictionState<dim>::Status::slip);
-            row.tangential_traction =
-              friction_state.force[i] * row_sum / areas[node];
+            row.tangential_traction = friction_state.force[i] *
+                                      contact_condition->row_sum(i) /
+                                      areas[node];
           }
       }
     last_summary.contact_force = 0.;
@@ -914,13 +910,10 @@ namespace Signorini
           (kept[i] || !refined) ? state0 : previous[nearest[i][1]];
         if (state0.sticks && state1.sticks)
           continue;
-        double row_sum = 0.;
-        for (const auto &entry : contact_condition->weight_row(i))
-          row_sum += entry.second;
         guess.friction.stick[i] = false;
         guess.friction.slip_force[i] =
           0.5 * (state0.tangential_traction + state1.tangential_traction) *
-          areas[nodes[i]] / row_sum;
+          areas[nodes[i]] / contact_condition->row_sum(i);
       }
     return guess;
   }

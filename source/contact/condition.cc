@@ -86,6 +86,19 @@ namespace Signorini
 
 
   template <int dim>
+  double
+  ContactCondition<dim>::row_sum(const unsigned int i) const
+  {
+    AssertIndexRange(i, weight_rows.size());
+    double sum = 0.;
+    for (const auto &entry : weight_rows[i])
+      sum += entry.second;
+    return sum;
+  }
+
+
+
+  template <int dim>
   void
   ContactCondition<dim>::solve_active_block(
     const std::vector<unsigned int> &active_rows,

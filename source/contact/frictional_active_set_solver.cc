@@ -326,12 +326,9 @@ namespace Signorini
       std::vector<double>  bounds(rows.row_node.size());
       for (unsigned int i = 0; i < bounds.size(); ++i)
         {
-          const unsigned int k       = rows.row_node[i];
-          double             row_sum = 0.;
-          for (const auto &entry : rows.condition->weight_row(i))
-            row_sum += entry.second;
+          const unsigned int k = rows.row_node[i];
           bounds[i] = law.threshold_at(rows.boundary->node(k).position) *
-                      areas[k] / row_sum;
+                      areas[k] / rows.condition->row_sum(i);
         }
       return bounds;
     }
@@ -479,17 +476,11 @@ namespace Signorini
     if (method == Method::fixed_point &&
         law.type() == FrictionLaw<dim>::Type::coulomb)
       return solve_fixed_point(problem, u, y, state, initial_active, previous);
-    const auto add_counts =
-      [](typename ContactSolver<dim>::Report       &to,
-         const typename ContactSolver<dim>::Report &from) {
-        to.iterations += from.iterations;
-        to.linear_solves += from.linear_solves;
-        to.linear_iterations += from.linear_iterations;
-      };
     FrictionSets<dim> sets;
     auto              report = solve_with_bounds(
       problem, u, y, state, initial_active, previous, nullptr, sets, guess);
-    if (!report.converged && guess != nullptr && !guess->stick.empty())
+    if (!report.converged && sets.cycled && guess != nullptr &&
+        !guess->stick.empty())
       {
         // the sets of a coarser mesh led the method into a cycle (the
         // integral condition at mu = 1000 on the block) that a cold start
@@ -498,7 +489,7 @@ namespace Signorini
         u                  = 0.;
         report =
           solve_with_bounds(problem, u, y, state, {}, previous, nullptr, sets);
-        add_counts(report, guessed);
+        report.add_counts(guessed);
       }
     if (!report.converged && sets.cycled &&
         law.type() == FrictionLaw<dim>::Type::coulomb)
@@ -511,7 +502,7 @@ namespace Signorini
         const auto cycled = report;
         u                 = 0.;
         report = solve_fixed_point(problem, u, y, state, {}, previous);
-        add_counts(report, cycled);
+        report.add_counts(cycled);
         if (!report.converged)
           report.failure = "its sets cycled (" +
                            std::to_string(cycled.iterations) +
@@ -580,9 +571,7 @@ namespace Signorini
       {
         const auto tresca = solve_with_bounds(
           problem, u, y, state, active, previous, &bounds, sets);
-        report.iterations += tresca.iterations;
-        report.linear_solves += tresca.linear_solves;
-        report.linear_iterations += tresca.linear_iterations;
+        report.add_counts(tresca);
         report.residual = tresca.residual;
         ++state.fixed_point.tresca_solves;
         if (!tresca.converged)

@@ -145,6 +145,12 @@ namespace Signorini
     double
     row_weight(const unsigned int i) const;
 
+    /// The sum of row i of W: the total nodal force of a unit multiplier
+    /// on the row (a traction's multiplier is the traction times the
+    /// node's area over it).
+    double
+    row_sum(const unsigned int i) const;
+
     /**
      * Add to @p constraints the equality constraints (B q)_i = b_i, i in the
      * active set, solved for the constrained component of the active nodes:

@@ -211,8 +211,8 @@ namespace Signorini
      * and every node in contact starts sticking there (the elastic
      * predictor); without, against the unloaded state, and from the sets of
      * @p guess if given (else every node in contact sticks; a guessed
-     * start that does not converge, its sets cycling or at the iteration
-     * limit, starts again from u = 0, out of contact).
+     * start whose sets cycle starts again from u = 0, out of contact; the
+     * report counts both starts).
      */
     typename ContactSolver<dim>::Report
     solve(const DiscreteContactProblem<dim> &problem,

@@ -42,6 +42,16 @@ namespace Signorini
       /// Why it did not, when the solver can say more than that it reached
       /// its iteration limit (empty otherwise).
       std::string failure;
+
+      /// Add the work of @p other (its iterations, linear solves and their
+      /// iterations) to this report's: a solve made of several.
+      void
+      add_counts(const Report &other)
+      {
+        iterations += other.iterations;
+        linear_iterations += other.linear_iterations;
+        linear_solves += other.linear_solves;
+      }
     };
 
     virtual ~ContactSolver() = default;
