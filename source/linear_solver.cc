@@ -409,13 +409,18 @@ namespace Signorini
 
   void
   ElasticitySolver::update_preconditioner(
-    const std::vector<types::global_dof_index> &active_dofs)
+    const std::vector<types::global_dof_index> &active_dofs,
+    const std::vector<
+      std::tuple<types::global_dof_index, types::global_dof_index, double>>
+      &springs)
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
     std::vector<types::global_dof_index> eliminated_dofs(active_dofs);
     std::sort(eliminated_dofs.begin(), eliminated_dofs.end());
-    if (eliminated_dofs == current_eliminated_dofs)
+    if (eliminated_dofs == current_eliminated_dofs && springs.empty() &&
+        !preconditioned_springs)
       return;
+    preconditioned_springs = !springs.empty();
     // zero the rows and columns of the eliminated dofs in the rows this rank
     // owns (the lists are the same on every rank); the matrix is copied again
     // each time, so that restored rows get their entries back
@@ -471,6 +476,13 @@ namespace Signorini
           modified_matrix.set(row, columns, zeros);
       }
     modified_matrix.compress(VectorOperation::insert);
+    {
+      const IndexSet owned = modified_matrix.locally_owned_range_indices();
+      for (const auto &[row, column, value] : springs)
+        if (owned.is_element(row) && !eliminated[row] && !eliminated[column])
+          modified_matrix.add(row, column, value);
+      modified_matrix.compress(VectorOperation::add);
+    }
     build_preconditioner(modified_matrix);
     current_eliminated_dofs = eliminated_dofs; // (once built)
   }

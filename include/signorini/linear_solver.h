@@ -100,11 +100,17 @@ namespace Signorini
      * that set converges as fast as on the base problem. (For the integral
      * condition an active dof is in fact tied to its neighbours; the
      * difference is a low-rank perturbation CG resolves in a few steps.)
-     * An empty list restores the base preconditioner.
+     * @p springs (row, column, value), in K's pattern, are added to the
+     * rows and columns that remain (friction's sliding nodes; not by the
+     * low-memory hierarchy, which masks K itself). An empty list restores
+     * the base preconditioner.
      */
     void
     update_preconditioner(
-      const std::vector<types::global_dof_index> &eliminated_dofs);
+      const std::vector<types::global_dof_index> &eliminated_dofs,
+      const std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+        &springs = {});
 
     /**
      * Solve with the constraints @p constraints (closed), the unconstrained
@@ -185,6 +191,8 @@ namespace Signorini
     /// The active dofs eliminated in the current preconditioner (sorted),
     /// {invalid} when none is built
     std::vector<types::global_dof_index> current_eliminated_dofs;
+    /// Whether the preconditioner was built with springs.
+    bool preconditioned_springs = false;
     /// What initialize() chose: direct factorisation or AMG
     bool use_direct = true;
     /// The Amesos package initialize() chose.

@@ -479,7 +479,10 @@ namespace Signorini
   void
   DiscreteContactProblem<dim>::update_preconditioner(
     const std::vector<bool>                    &active,
-    const std::vector<types::global_dof_index> &fixed_dofs) const
+    const std::vector<types::global_dof_index> &fixed_dofs,
+    const std::vector<
+      std::tuple<types::global_dof_index, types::global_dof_index, double>>
+      &springs) const
   {
     const auto        &multiplier_nodes = contact_boundary.multiplier_nodes();
     const unsigned int c_star = contact_boundary.constrained_component();
@@ -487,7 +490,7 @@ namespace Signorini
     for (unsigned int i = 0; i < active.size(); ++i)
       if (active[i])
         dofs.push_back(contact_boundary.node(multiplier_nodes[i]).dofs[c_star]);
-    linear_solver.update_preconditioner(dofs);
+    linear_solver.update_preconditioner(dofs, springs);
   }
 
 

@@ -125,6 +125,13 @@ namespace Signorini
       std::vector<
         std::tuple<types::global_dof_index, types::global_dof_index, double>>
         springs;
+      /// The same with the entry of node k and node l put on node k's
+      /// diagonal block (the same for the pointwise condition): the
+      /// preconditioner's, as K's pattern couples a node's dofs but not
+      /// two nodes of a row of W, which may be two edges apart.
+      std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+        lumped_springs;
     };
 
     /// The step's system: the rows the law acts on (@p rubbing) stick at
@@ -188,9 +195,13 @@ namespace Signorini
                                                       slip_force[i][b] /
                                                       norm_squared);
                             if (value != 0.)
-                              system.springs.emplace_back(rows.dof(k, a),
-                                                          rows.dof(l, b),
-                                                          value);
+                              {
+                                system.springs.emplace_back(rows.dof(k, a),
+                                                            rows.dof(l, b),
+                                                            value);
+                                system.lumped_springs.emplace_back(
+                                  rows.dof(k, a), rows.dof(k, b), value);
+                              }
                             force += value * origin[l][b];
                           }
                   system.forces.emplace_back(rows.dof(k, a), force);
@@ -741,6 +752,7 @@ namespace Signorini
     // the sets the preconditioner was last built for
     std::vector<bool> preconditioned_active(m, false),
       preconditioned_stick(m, false);
+    std::vector<double> preconditioned_spring(m, 0.);
     Progress progress("frictional active set", u.get_mpi_communicator());
     double   previous_change = std::numeric_limits<double>::infinity();
     // while the sets change, inexact solves (as ActiveSetSolver); once they
@@ -760,18 +772,28 @@ namespace Signorini
           friction_system(rows, rubbing, stick, slip_force, spring, origin);
         // (the sticking rows' tangential dofs are held like the active
         // normal rows: without them in the preconditioner, CG took 4 to 9
-        // times the iterations of a frictionless solve)
+        // times the iterations of a frictionless solve; and the sliding
+        // rows' springs are added: without them, the 3D block at 315k DoFs
+        // took 287 CG iterations instead of 90. A row drifts when its
+        // state changed or its spring changed by more than a factor 2.)
         unsigned int drift = 0;
         for (unsigned int i = 0; i < m; ++i)
-          drift += (active[i] != preconditioned_active[i] ||
-                    (rubbing[i] && stick[i] != preconditioned_stick[i])) ?
-                     1 :
-                     0;
+          drift +=
+            (active[i] != preconditioned_active[i] ||
+             (rubbing[i] && stick[i] != preconditioned_stick[i]) ||
+             std::abs(spring[i] - preconditioned_spring[i]) >
+               0.5 * std::max(
+                       {spring[i], preconditioned_spring[i], rows.scale[i]})) ?
+              1 :
+              0;
         if (drift > preconditioner_update_fraction * m)
           {
-            problem.update_preconditioner(active, system.stick_dofs);
+            problem.update_preconditioner(active,
+                                          system.stick_dofs,
+                                          system.lumped_springs);
             preconditioned_active = active;
             preconditioned_stick  = stick;
+            preconditioned_spring = spring;
           }
         const bool solved_exactly = exact;
         report.linear_iterations +=

@@ -130,14 +130,18 @@ namespace Signorini
     /**
      * Tune the linear solver's preconditioner to the active set @p active
      * and the displacement dofs @p fixed_dofs held by other constraints
-     * (the sticking nodes' tangential dofs; see
+     * (the sticking nodes' tangential dofs), with @p springs added to K
+     * (the sliding nodes', lumped onto K's pattern; see
      * ElasticitySolver::update_preconditioner()); an all-false set restores
      * the base preconditioner.
      */
     void
     update_preconditioner(
       const std::vector<bool>                    &active,
-      const std::vector<types::global_dof_index> &fixed_dofs = {}) const;
+      const std::vector<types::global_dof_index> &fixed_dofs = {},
+      const std::vector<
+        std::tuple<types::global_dof_index, types::global_dof_index, double>>
+        &springs = {}) const;
 
     /// Solve K u = F + sum_k forces_k nu_c (at node k of GC) under the base
     /// constraints (and the supports of the free rigid motions).
