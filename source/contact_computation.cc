@@ -708,25 +708,20 @@ namespace Signorini
     {
       TimerOutput::Scope t(timer, "contact solve");
       if (friction_law_.enabled())
-        last_summary.report = FrictionalActiveSetSolver<dim>(
-                                friction_law_,
-                                friction_max_iterations,
-                                friction_method,
-                                // (a direct solver would factorise
-                                // again: measured slower on the 3D
-                                // block, 6k DoFs)
-                                elasticity_solver.uses_direct_solver() ?
-                                  1. :
-                                  friction_preconditioner_update,
-                                friction_uniqueness_check,
-                                friction_inexact_tolerance)
-                                .solve(problem,
-                                       solution,
-                                       dual_solution,
-                                       friction_state,
-                                       guess.active,
-                                       previous_friction,
-                                       &guess.friction);
+        last_summary.report =
+          FrictionalActiveSetSolver<dim>(friction_law_,
+                                         friction_max_iterations,
+                                         friction_method,
+                                         friction_preconditioner_update,
+                                         friction_uniqueness_check,
+                                         friction_inexact_tolerance)
+            .solve(problem,
+                   solution,
+                   dual_solution,
+                   friction_state,
+                   guess.active,
+                   previous_friction,
+                   &guess.friction);
       else
         last_summary.report =
           contact_solver->solve(problem, solution, dual_solution, guess.active);

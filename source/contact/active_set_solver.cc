@@ -68,7 +68,9 @@ namespace Signorini
                       Patterns::Double(0., 1.),
                       "Rebuild the elasticity preconditioner for the current "
                       "active set when more than this fraction of the contact "
-                      "rows changed state since it was built.");
+                      "rows changed state since it was built (with friction: "
+                      "their dofs, normal and tangential, whose treatment "
+                      "changed, against the number of rows).");
     prm.leave_subsection();
     prm.leave_subsection();
   }

@@ -7,6 +7,7 @@
 #include <signorini/contact/friction_law.h>
 #include <signorini/contact/solver.h>
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -179,9 +180,12 @@ namespace Signorini
 
     /// @p preconditioner_update_fraction: rebuild the elasticity
     /// preconditioner for the current sets (active normal rows, sticking
-    /// nodes' tangential dofs) when more than this fraction of the rows
-    /// changed since it was built (Active set/Preconditioner update
-    /// fraction). With @p check_uniqueness, a Coulomb solution where the
+    /// nodes' tangential dofs, sliding nodes' springs) when the dofs whose
+    /// treatment changed since it was built (a row's normal dof if its
+    /// contact did, its tangential dofs if its stick state did or its
+    /// spring changed by more than a factor 2) exceed this fraction of the
+    /// number of rows (Active set/Preconditioner update fraction;
+    /// infinity: never). With @p check_uniqueness, a Coulomb solution where the
     /// fixed point on the Tresca threshold does not contract is refused.
     /// While the sets change, the solves stop at the relative CG tolerance
     /// @p inexact_tolerance (Active set/Inexact tolerance; 0: every solve
@@ -189,7 +193,8 @@ namespace Signorini
     FrictionalActiveSetSolver(const FrictionLaw<dim> &law,
                               const unsigned int      max_iterations,
                               const Method method = Method::semismooth_newton,
-                              const double preconditioner_update_fraction = 1.,
+                              const double preconditioner_update_fraction =
+                                std::numeric_limits<double>::infinity(),
                               const bool   check_uniqueness  = true,
                               const double inexact_tolerance = 0.);
 
