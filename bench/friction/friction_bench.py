@@ -4,7 +4,9 @@ frictionless one on the same mesh.
 
 prm/block.prm (2D) and prm/block-3d.prm (3D), refined --levels times, one
 computation, --condition (pointwise by default), active set method,
-estimator off; each
+estimator off (--million3d adds the 3D block of 16 x 12 x 8 bricks refined
+twice, 1.24M DoFs, issue 36's 1M-DoF case: about 6 GB and 5 minutes per
+run); each
 without friction and with Coulomb mu = 0.3. Prints per mesh: DoFs, the
 active-set iterations, the CG iterations, the seconds of the contact solve
 (linear solver setup + solve) and the ratio frictional / frictionless.
@@ -15,6 +17,7 @@ Usage: bench/friction/friction_bench.py [--repeat 3] [--levels2d 4 5]
                                         [--levels3d 0 1] [--build build]
                                         [--uniqueness-check true|false]
                                         [--condition pointwise|integral]
+                                        [--million3d]
 """
 import argparse
 import os
@@ -35,6 +38,7 @@ def main():
                         default="true")
     parser.add_argument("--condition", choices=["pointwise", "integral"],
                         default="pointwise")
+    parser.add_argument("--million3d", action="store_true")
     args = parser.parse_args()
     exe = runner.executable(args.build)
     print("| mesh | DoFs | frictionless: iterations, CG, s | Coulomb 0.3: "
@@ -42,8 +46,12 @@ def main():
     print("|---|---:|---|---|---:|")
     cases = [("block.prm", "2D block", level) for level in args.levels2d] + \
         [("block-3d.prm", "3D block", level) for level in args.levels3d]
+    if args.million3d:
+        cases.append(("block-3d.prm", "3D block 16 x 12 x 8", 2))
     for example, name, level in cases:
         base = dict(single_mesh(level))
+        if "16 x 12 x 8" in name:
+            base["Mesh/Block subdivisions"] = "16, 12, 8"
         base["Contact/Condition"] = args.condition
         friction = dict(base)
         friction["Contact/Friction"] = "Coulomb"
