@@ -185,8 +185,8 @@ namespace Signorini
     /// contact did, its tangential dofs if its stick state did or its
     /// spring changed by more than a factor 2) exceed this fraction of the
     /// number of rows (Active set/Preconditioner update fraction;
-    /// infinity: never). With @p check_uniqueness, a Coulomb solution where the
-    /// fixed point on the Tresca threshold does not contract is refused.
+    /// infinity: never). With @p check_uniqueness, a Coulomb solution where
+    /// the fixed point on the Tresca threshold does not contract is refused.
     /// While the sets change, the solves stop at the relative CG tolerance
     /// @p inexact_tolerance (Active set/Inexact tolerance; 0: every solve
     /// at the linear solver's).
