@@ -139,7 +139,7 @@ namespace Signorini
         prm.leave_subsection();
         prm.leave_subsection();
         friction_method = FrictionalActiveSetSolver<dim>::parse_method(prm);
-        friction_uniqueness_check =
+        friction_uniqueness_steps =
           FrictionalActiveSetSolver<dim>::parse_uniqueness_check(prm);
       }
 
@@ -713,7 +713,7 @@ namespace Signorini
                                          friction_max_iterations,
                                          friction_method,
                                          friction_preconditioner_update,
-                                         friction_uniqueness_check,
+                                         friction_uniqueness_steps,
                                          friction_inexact_tolerance)
             .solve(problem,
                    solution,
@@ -993,7 +993,7 @@ namespace Signorini
         // (the chain of coarser meshes is the point; their solutions are
         // guesses, whose uniqueness the fine one's check shows)
         coarse->guess_from_previous_cycle = true;
-        coarse->friction_uniqueness_check = false;
+        coarse->friction_uniqueness_steps = 0;
         for (const auto &create_coarser_mesh : coarser_meshes)
           {
             if (shared != nullptr)

@@ -74,13 +74,10 @@ namespace Signorini
     class ConstrainedOperator
     {
     public:
-      ConstrainedOperator(
-        const LA::SparseMatrix &matrix,
-        const DistributedLines &lines,
-        const LA::Vector       &layout,
-        const std::vector<
-          std::tuple<types::global_dof_index, types::global_dof_index, double>>
-          &springs)
+      ConstrainedOperator(const LA::SparseMatrix          &matrix,
+                          const DistributedLines          &lines,
+                          const LA::Vector                &layout,
+                          const ElasticitySolver::Springs &springs)
         : matrix(matrix)
         , lines(lines)
       {
@@ -149,15 +146,13 @@ namespace Signorini
       }
 
     private:
-      const LA::SparseMatrix &matrix;
-      const DistributedLines &lines;
-      std::vector<
-        std::tuple<types::global_dof_index, types::global_dof_index, double>>
-                         own_springs;
-      bool               with_springs;
-      mutable LA::Vector distributed;
-      mutable LA::Vector ghosted;
-      mutable LA::Vector spring_ghosted;
+      const LA::SparseMatrix   &matrix;
+      const DistributedLines   &lines;
+      ElasticitySolver::Springs own_springs;
+      bool                      with_springs;
+      mutable LA::Vector        distributed;
+      mutable LA::Vector        ghosted;
+      mutable LA::Vector        spring_ghosted;
     };
 
     /// Id_c + (P^{-1} restricted to the free dofs), P = K with the
@@ -410,9 +405,7 @@ namespace Signorini
   void
   ElasticitySolver::update_preconditioner(
     const std::vector<types::global_dof_index> &active_dofs,
-    const std::vector<
-      std::tuple<types::global_dof_index, types::global_dof_index, double>>
-      &springs)
+    const ElasticitySolver::Springs            &springs)
   {
     Assert(stiffness_matrix != nullptr, ExcNotInitialized());
     std::vector<types::global_dof_index> eliminated_dofs(active_dofs);
@@ -572,14 +565,11 @@ namespace Signorini
 
 
   unsigned int
-  ElasticitySolver::solve(
-    const AffineConstraints<double> &constraints,
-    const LA::Vector                &load,
-    LA::Vector                      &solution,
-    const double                     tolerance_,
-    const std::vector<
-      std::tuple<types::global_dof_index, types::global_dof_index, double>>
-      &springs)
+  ElasticitySolver::solve(const AffineConstraints<double> &constraints,
+                          const LA::Vector                &load,
+                          LA::Vector                      &solution,
+                          const double                     tolerance_,
+                          const Springs                   &springs)
   {
     if (stiffness_matrix == nullptr)
       throw std::logic_error(

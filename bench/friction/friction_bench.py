@@ -11,7 +11,7 @@ without friction and with Coulomb mu = 0.3. Prints per mesh: DoFs, the
 active-set iterations, the CG iterations, the seconds of the contact solve
 (linear solver setup + solve) and the ratio frictional / frictionless.
 Medians of --repeat runs, interleaved. --uniqueness-check false skips the
-contraction at the solution (Contact/Uniqueness check, 6 or more solves).
+contraction at the solution (Contact/Uniqueness check, 2 or more solves).
 
 Usage: bench/friction/friction_bench.py [--repeat 3] [--levels2d 4 5]
                                         [--levels3d 0 1] [--build build]

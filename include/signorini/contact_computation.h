@@ -352,8 +352,8 @@ namespace Signorini
     /// Contact/Friction solver.
     typename FrictionalActiveSetSolver<dim>::Method friction_method =
       FrictionalActiveSetSolver<dim>::Method::semismooth_newton;
-    /// Contact/Uniqueness check.
-    bool               friction_uniqueness_check = true;
+    /// Contact/Uniqueness check (steps), 0: off.
+    unsigned int       friction_uniqueness_steps = 2;
     FrictionState<dim> friction_state;
     ElasticitySolver   elasticity_solver;
     bool               guess_from_previous_cycle = true;

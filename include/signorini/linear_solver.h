@@ -49,6 +49,10 @@ namespace Signorini
     ElasticitySolver();
     ~ElasticitySolver();
 
+    /// Entries (row, column, value) added to K: friction's springs.
+    using Springs = std::vector<
+      std::tuple<types::global_dof_index, types::global_dof_index, double>>;
+
     /// The preconditioner of the CG solves (Linear solver/Type).
     enum class Type
     {
@@ -108,9 +112,7 @@ namespace Signorini
     void
     update_preconditioner(
       const std::vector<types::global_dof_index> &eliminated_dofs,
-      const std::vector<
-        std::tuple<types::global_dof_index, types::global_dof_index, double>>
-        &springs = {});
+      const Springs                              &springs = {});
 
     /**
      * Solve with the constraints @p constraints (closed), the unconstrained
@@ -122,14 +124,11 @@ namespace Signorini
      * in 3D); the preconditioner does not see them.
      */
     unsigned int
-    solve(
-      const AffineConstraints<double> &constraints,
-      const LA::Vector                &load,
-      LA::Vector                      &solution,
-      const double                     relative_tolerance = 0.,
-      const std::vector<
-        std::tuple<types::global_dof_index, types::global_dof_index, double>>
-        &springs = {});
+    solve(const AffineConstraints<double> &constraints,
+          const LA::Vector                &load,
+          LA::Vector                      &solution,
+          const double                     relative_tolerance = 0.,
+          const Springs                   &springs            = {});
 
     /// Free the preconditioner (its matrix and its hierarchy or
     /// factorisation); the next solve() or update_preconditioner() builds

@@ -429,10 +429,8 @@ namespace Signorini
     const std::vector<bool>         &active,
     const AffineConstraints<double> &stick_constraints,
     const std::vector<std::pair<types::global_dof_index, double>> &forces,
-    const std::vector<
-      std::tuple<types::global_dof_index, types::global_dof_index, double>>
-                &springs,
-    LA::Vector  &u,
+    const ElasticitySolver::Springs                               &springs,
+    LA::Vector                                                    &u,
     const double relative_tolerance) const
   {
     AffineConstraints<double> constraints;
@@ -480,9 +478,7 @@ namespace Signorini
   DiscreteContactProblem<dim>::update_preconditioner(
     const std::vector<bool>                    &active,
     const std::vector<types::global_dof_index> &fixed_dofs,
-    const std::vector<
-      std::tuple<types::global_dof_index, types::global_dof_index, double>>
-      &springs) const
+    const ElasticitySolver::Springs            &springs) const
   {
     const auto        &multiplier_nodes = contact_boundary.multiplier_nodes();
     const unsigned int c_star = contact_boundary.constrained_component();

@@ -40,13 +40,14 @@ stick and slip sets, energies and forces as the semismooth Newton method
 the same results on 1 and 3 ranks (2D block). The contraction of the fixed
 point at the solution (Contact/Uniqueness check) is in (0, 1) on the
 full-slip strip, proportional to mu there (mu = 0.3 and 1, tau = mu p; on
-the unrefined strip, where the estimate is exact), and the same from both
-routes (2D and 3D strips). The error estimate with friction: mu = 0
-gives the frictionless estimate, the Coulomb
-block a bound with effectivity in [1, 1.3] against a reference two levels
-finer (1 and 2 ranks alike), also at mu = 1000 where every node in contact
-sticks ([1, 1.5] with the pointwise condition), and prm/block-adaptive.prm
-with mu = 0.3 reaches 2 % in at most three computations.
+the unrefined strip with as many steps as sliding nodes, where the estimate
+is exact; the default 2 steps' estimate, rougher, decides alike), and the
+same from both routes (2D and 3D strips). The error estimate with
+friction: mu = 0 gives the frictionless estimate, the Coulomb block a
+bound with effectivity in [1, 1.3] against a reference two levels finer (1
+and 2 ranks alike), also at mu = 1000 where every node in contact sticks
+([1, 1.5] with the pointwise condition), and prm/block-adaptive.prm with
+mu = 0.3 reaches 2 % in at most three computations.
 """
 import os
 import shutil
@@ -354,23 +355,32 @@ def main():
     # the contraction of the fixed point on the Tresca threshold at the
     # solution: in (0, 1), and, the sets and slip directions being those
     # of every mu (full slip under tau = mu p), proportional to mu; on the
-    # unrefined strip (4 sliding nodes: Arnoldi spans them, the rate is
-    # exact)
+    # unrefined strip with 4 steps (4 sliding nodes: Arnoldi spans them,
+    # the rate is exact); in the default steps a rough estimate, which
+    # must decide alike
     coarse = ("set Number of cycles = 1\nsubsection Mesh\n"
               "  set Block subdivisions = 2, 3\n"
               "  set Initial refinements = 0\nend\n")
+    spanning = "subsection Contact\n  set Uniqueness check steps = 4\nend\n"
     rates = []
     for tau, mu in [(0.03, 0.3), (0.1, 1)]:
         rows = rows_of(f"slip-coarse-mu{mu}", strip,
-                       coarse + SLIP.format(tau=tau, mu=mu), tolerance=1e-8)
+                       coarse + SLIP.format(tau=tau, mu=mu) + spanning,
+                       tolerance=1e-8)
         exact(f"slip, Coulomb, unrefined, mu = {mu}", rows, "slip_nodes")
         rates.append(float(rows[0]["contraction_at_solution"]))
     if not (0. < rates[0] < 1. and
             abs(rates[1] / rates[0] - 1. / 0.3) < 1e-6 / 0.3):
         problems.append(f"slip, unrefined: contraction at the solution "
                         f"{rates[0]} (mu = 0.3), {rates[1]} (mu = 1)")
+    rough = float(rows_of("slip-coarse-default-steps", strip,
+                          coarse + SLIP.format(tau=0.03, mu=0.3),
+                          tolerance=1e-8)[0]["contraction_at_solution"])
+    if not 0. < rough < 1.:
+        problems.append(f"slip, unrefined: contraction at the solution "
+                        f"{rough} in the default steps, {rates[0]} exact")
     print(f"slip, unrefined: contraction at the solution {rates} "
-          f"(mu = 0.3, 1)")
+          f"(mu = 0.3, 1), {rough} (mu = 0.3, default steps)")
     strip_3d = os.path.join(source, "tests", "runs", "friction_strip_3d.prm")
     exact("3D slip, Coulomb", rows_of("slip-3d-coulomb", strip_3d, ""),
           "slip_nodes")

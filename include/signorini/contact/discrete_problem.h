@@ -121,10 +121,8 @@ namespace Signorini
       const std::vector<bool>         &active,
       const AffineConstraints<double> &stick_constraints,
       const std::vector<std::pair<types::global_dof_index, double>> &forces,
-      const std::vector<
-        std::tuple<types::global_dof_index, types::global_dof_index, double>>
-                  &springs,
-      LA::Vector  &u,
+      const ElasticitySolver::Springs                               &springs,
+      LA::Vector                                                    &u,
       const double relative_tolerance = 0.) const;
 
     /**
@@ -139,9 +137,7 @@ namespace Signorini
     update_preconditioner(
       const std::vector<bool>                    &active,
       const std::vector<types::global_dof_index> &fixed_dofs = {},
-      const std::vector<
-        std::tuple<types::global_dof_index, types::global_dof_index, double>>
-        &springs = {}) const;
+      const ElasticitySolver::Springs            &springs    = {}) const;
 
     /// Solve K u = F + sum_k forces_k nu_c (at node k of GC) under the base
     /// constraints (and the supports of the free rigid motions).

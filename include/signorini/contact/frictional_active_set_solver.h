@@ -174,8 +174,9 @@ namespace Signorini
 
     static Method
     parse_method(ParameterHandler &prm);
-    /// Contact/Uniqueness check.
-    static bool
+    /// Contact/Uniqueness check and Uniqueness check steps: the least
+    /// number of steps of the check, 0 if it is off.
+    static unsigned int
     parse_uniqueness_check(ParameterHandler &prm);
 
     /// @p preconditioner_update_fraction: rebuild the elasticity
@@ -185,8 +186,10 @@ namespace Signorini
     /// contact did, its tangential dofs if its stick state did or its
     /// spring changed by more than a factor 2) exceed this fraction of the
     /// number of rows (Active set/Preconditioner update fraction;
-    /// infinity: never). With @p check_uniqueness, a Coulomb solution where
-    /// the fixed point on the Tresca threshold does not contract is refused.
+    /// infinity: never). With @p uniqueness_check_steps > 0, a Coulomb
+    /// solution where the fixed point on the Tresca threshold does not
+    /// contract is refused, the rate estimated in at least that many
+    /// steps.
     /// While the sets change, the solves stop at the relative CG tolerance
     /// @p inexact_tolerance (Active set/Inexact tolerance; 0: every solve
     /// at the linear solver's).
@@ -195,8 +198,8 @@ namespace Signorini
                               const Method method = Method::semismooth_newton,
                               const double preconditioner_update_fraction =
                                 std::numeric_limits<double>::infinity(),
-                              const bool   check_uniqueness  = true,
-                              const double inexact_tolerance = 0.);
+                              const unsigned int uniqueness_check_steps = 2,
+                              const double       inexact_tolerance      = 0.);
 
     /// Throw an InputError naming the parameter if friction cannot be
     /// applied to @p problem: a contact direction off the coordinate axes,
@@ -267,7 +270,7 @@ namespace Signorini
     const unsigned int      max_iterations;
     const Method            method;
     const double            preconditioner_update_fraction;
-    const bool              check_uniqueness;
+    const unsigned int      uniqueness_check_steps;
     const double            inexact_tolerance;
   };
 } // namespace Signorini
