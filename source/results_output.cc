@@ -361,10 +361,12 @@ namespace Signorini
                     std::string())
               << (state.contraction_at_solution ?
                     "   contraction at the solution " +
-                      brief(*state.contraction_at_solution) +
+                      brief(*state.contraction_at_solution) + " (" +
+                      std::to_string(state.contraction_steps) +
+                      " Arnoldi steps; " +
                       (*state.contraction_at_solution < 1. ?
-                         " (locally unique)\n" :
-                         " (uniqueness not shown)\n") :
+                         "locally unique)\n" :
+                         "uniqueness not shown)\n") :
                     std::string())
               << "   friction checks: bound " << checks.friction_bound
               << ", stick " << checks.stick << ", slip " << checks.slip
@@ -432,8 +434,11 @@ namespace Signorini
           table.add_value("stick", summary.checks.stick);
           table.add_value("slip", summary.checks.slip);
           if (state.contraction_at_solution)
-            table.add_value("contraction_at_solution",
-                            *state.contraction_at_solution);
+            {
+              table.add_value("contraction_at_solution",
+                              *state.contraction_at_solution);
+              table.add_value("contraction_steps", state.contraction_steps);
+            }
           if (state.fixed_point.tresca_solves > 0)
             {
               table.add_value("tresca_solves", state.fixed_point.tresca_solves);

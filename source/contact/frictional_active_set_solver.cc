@@ -220,8 +220,8 @@ namespace Signorini
      * solve per step, counted in @p report: at least @p min_steps steps,
      * then until the estimate rho_k is on one side of 1 by more than 10
      * times its last change (|1 - rho_k| > 10 |rho_k - rho_{k-1}|), at
-     * most @p max_steps (exact once the steps span the sliding nodes); 0
-     * without sliding nodes.
+     * most @p max_steps (exact once the steps span the sliding nodes),
+     * their number in @p steps_taken; 0 without sliding nodes.
      */
     template <int dim>
     double
@@ -232,8 +232,10 @@ namespace Signorini
                             const double                         mu,
                             const unsigned int                   min_steps,
                             const unsigned int                   max_steps,
+                            unsigned int                        &steps_taken,
                             typename ContactSolver<dim>::Report &report)
     {
+      steps_taken                          = 0;
       const FrictionRows<dim>   rows       = describe_rows(problem);
       const auto               &active     = sets.active;
       const auto               &stick      = sets.stick;
@@ -306,6 +308,7 @@ namespace Signorini
           hessenberg(j + 1, j) = w.l2_norm();
           previous             = radius;
           radius               = ritz_radius(j + 1);
+          steps_taken          = j + 1;
           // (an invariant subspace: its Ritz values are eigenvalues; else
           // they approach the spectrum from either side, J not being
           // normal: on the strip in full slip at mu = 2 and nu = 0, 0.29,
@@ -489,6 +492,7 @@ namespace Signorini
     check_applicable(problem);
     state.fixed_point = {};
     state.contraction_at_solution.reset();
+    state.contraction_steps = 0;
     if (method == Method::fixed_point &&
         law.type() == FrictionLaw<dim>::Type::coulomb)
       return solve_fixed_point(problem, u, y, state, initial_active, previous);
@@ -553,6 +557,7 @@ namespace Signorini
                               law.coefficient(),
                               uniqueness_check_steps,
                               50,
+                              state.contraction_steps,
                               report);
     if (*state.contraction_at_solution >= 1.)
       {

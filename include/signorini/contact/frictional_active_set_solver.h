@@ -81,6 +81,9 @@ namespace Signorini
     /// point on the Tresca threshold at the solution (0 without sliding
     /// nodes). Below 1 the solution is locally unique.
     std::optional<double> contraction_at_solution;
+    /// The Arnoldi steps (linear solves) behind contraction_at_solution:
+    /// the estimate is exact once they reach the number of sliding nodes.
+    unsigned int contraction_steps = 0;
   };
 
   /**
