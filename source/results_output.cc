@@ -363,7 +363,8 @@ namespace Signorini
                     "   contraction at the solution " +
                       brief(*state.contraction_at_solution) + " (" +
                       std::to_string(state.contraction_steps) +
-                      " Arnoldi steps; " +
+                      (state.contraction_steps == 1 ? " Arnoldi step; " :
+                                                      " Arnoldi steps; ") +
                       (*state.contraction_at_solution < 1. ?
                          "locally unique)\n" :
                          "uniqueness not shown)\n") :
