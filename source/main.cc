@@ -130,9 +130,14 @@ main(int argc, char **argv)
   MPI_Comm error_comm = MPI_COMM_NULL;
   if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
     MPI_Comm_dup(MPI_COMM_WORLD, &error_comm);
+  // (one write per line: unbuffered, each << is a write of its own, and
+  // mpirun's abort banner could come between them)
+  const auto write_error_line = [](const std::string &line) {
+    std::cerr << line + '\n' << std::flush;
+  };
   const auto fail = [&](const std::string &message, const int code) {
     if (root)
-      std::cerr << "signorini: error: " << message << std::endl;
+      write_error_line("signorini: error: " + message);
     if (error_comm == MPI_COMM_NULL)
       return code;
     MPI_Request request;
@@ -146,9 +151,14 @@ main(int argc, char **argv)
     if (all_arrived)
       return code;
     if (!root) // rank 0 may not know this rank's error
-      std::cerr << "signorini: error: (rank "
-                << Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) << ") "
-                << message << std::endl;
+      {
+        write_error_line(
+          "signorini: error: (rank " +
+          std::to_string(Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)) +
+          ") " + message);
+        // (time for mpirun to forward the line before its banner)
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
     MPI_Abort(MPI_COMM_WORLD, code);
     return code;
   };
