@@ -18,6 +18,10 @@ namespace Signorini
 {
   namespace
   {
+    /// The most Arnoldi steps of the uniqueness check, and the most its
+    /// least number (Contact/Uniqueness check steps) may be.
+    constexpr unsigned int max_uniqueness_steps = 50;
+
     /**
      * What the method needs to know of the condition's rows and the nodes
      * of GC. The friction law acts on each row i like the normal one: on
@@ -393,12 +397,14 @@ namespace Signorini
                       Patterns::Bool(),
                       "Coulomb friction: estimate how fast the fixed point "
                       "on the Tresca threshold contracts at the solution "
-                      "(Uniqueness check steps to 50 more linear solves per "
-                      "solve) and refuse the solution where it does not "
-                      "(rate >= 1: not shown to be locally unique).");
+                      "(Uniqueness check steps to " +
+                        std::to_string(max_uniqueness_steps) +
+                        " more linear solves per "
+                        "solve) and refuse the solution where it does not "
+                        "(rate >= 1: not shown to be locally unique).");
     prm.declare_entry("Uniqueness check steps",
                       "2",
-                      Patterns::Integer(1, 50),
+                      Patterns::Integer(1, max_uniqueness_steps),
                       "Coulomb friction: the least number of Arnoldi steps "
                       "(one linear solve each) of the uniqueness check (at "
                       "least 6 for a rate above 1/2); more estimate a small "
@@ -562,7 +568,7 @@ namespace Signorini
                               y,
                               law.coefficient(),
                               uniqueness_check_steps,
-                              50,
+                              max_uniqueness_steps,
                               state.contraction_steps,
                               report);
     if (*state.contraction_at_solution >= 1.)
