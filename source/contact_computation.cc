@@ -86,7 +86,7 @@ namespace Signorini
 
   template <int dim>
   ContactComputation<dim>::ContactComputation(ParameterHandler &prm,
-                                              TimerOutput      &timer)
+                                              PhaseTimer       &timer)
     : ContactComputation(prm, timer, /*with_nested_start=*/true)
   {}
 
@@ -94,7 +94,7 @@ namespace Signorini
 
   template <int dim>
   ContactComputation<dim>::ContactComputation(ParameterHandler &prm,
-                                              TimerOutput      &timer,
+                                              PhaseTimer       &timer,
                                               const bool with_nested_start)
     : timer(timer)
     , mpi_communicator(MPI_COMM_WORLD)
@@ -236,7 +236,7 @@ namespace Signorini
   ContactComputation<dim>::setup(const Triangulation<dim> &mesh,
                                  const Function<dim>      *exact_solution)
   {
-    TimerOutput::Scope t(timer, "setup");
+    PhaseTimer::Scope t(timer, "setup");
     nested_start_input.reset();
     check_boundary_ids(mesh);
     // (the bounding box's diagonal in one pass over the vertices, where
@@ -460,7 +460,7 @@ namespace Signorini
   void
   ContactComputation<dim>::assemble(const bool with_matrix)
   {
-    TimerOutput::Scope           t(timer, "assembly");
+    PhaseTimer::Scope            t(timer, "assembly");
     const QGaussSimplex<dim>     quadrature(3);
     const QGaussSimplex<dim - 1> face_quadrature(3);
     FEValues<dim>                fe_values(mapping_fe,
@@ -620,7 +620,7 @@ namespace Signorini
 
     Timer setup_timer;
     {
-      TimerOutput::Scope             t(timer, "linear solver setup");
+      PhaseTimer::Scope              t(timer, "linear solver setup");
       std::vector<std::vector<bool>> constant_modes;
       DoFTools::extract_constant_modes(dofs,
                                        ComponentMask(dim, true),
@@ -706,7 +706,7 @@ namespace Signorini
     problem.check_rigid_motions();
     Timer solve_timer;
     {
-      TimerOutput::Scope t(timer, "contact solve");
+      PhaseTimer::Scope t(timer, "contact solve");
       if (friction_law_.enabled())
         last_summary.report =
           FrictionalActiveSetSolver<dim>(friction_law_,

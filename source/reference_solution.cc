@@ -60,7 +60,7 @@ namespace Signorini
 
   template <int dim>
   ReferenceSolution<dim>::ReferenceSolution()
-    : timer(std::cout, TimerOutput::never, TimerOutput::wall_times)
+    : timer(ConditionalOStream(std::cout, false))
     , triangulation(MPI_COMM_WORLD,
                     Triangulation<dim>::none,
                     /*allow_artificial_cells=*/false,

@@ -184,9 +184,10 @@ namespace Signorini
       prm.declare_entry("Print timing",
                         "true",
                         Patterns::Bool(),
-                        "Print the TimerOutput summary, the solve time and, "
-                        "every 10 s of a long phase, a progress line on "
-                        "screen (off in regression tests: times vary).");
+                        "Print the time and the peak memory of each phase, "
+                        "the solve time and, every 10 s of a long phase, a "
+                        "progress line on screen (off in regression tests: "
+                        "times vary).");
     }
     prm.leave_subsection();
   }

@@ -69,7 +69,7 @@ namespace Signorini
   SignoriniProblem<dim>::SignoriniProblem(ParameterHandler  &prm,
                                           const std::string &input_directory)
     : prm(prm)
-    , timer(results.screen(), TimerOutput::never, TimerOutput::wall_times)
+    , timer(results.screen())
     , triangulation(MPI_COMM_WORLD,
                     Triangulation<dim>::none,
                     /*allow_artificial_cells=*/false,
@@ -200,7 +200,7 @@ namespace Signorini
   void
   SignoriniProblem<dim>::adapt_mesh(const unsigned int cycle)
   {
-    TimerOutput::Scope   t(timer, "mesh adaptation");
+    PhaseTimer::Scope    t(timer, "mesh adaptation");
     const unsigned int   n_cells = triangulation.n_active_cells();
     const Vector<double> local_error =
       estimator.enabled() ?
@@ -316,7 +316,7 @@ namespace Signorini
   void
   SignoriniProblem<dim>::make_grid()
   {
-    TimerOutput::Scope t(timer, "make grid");
+    PhaseTimer::Scope t(timer, "make grid");
     adaptive_mesh.initialize(mesh_input, triangulation);
   }
 
@@ -353,7 +353,7 @@ namespace Signorini
   {
     // (the steps of a load path write their outputs as they are solved)
     computation.set_load_step_observer([this, cycle](const unsigned int step) {
-      TimerOutput::Scope t(timer, "output");
+      PhaseTimer::Scope t(timer, "output");
       results.load_step(cycle, step, computation);
     });
     computation.solve();
@@ -370,7 +370,7 @@ namespace Signorini
     if (!estimator.enabled() || !computation.converged())
       return;
     const DiscreteContactProblem<dim> problem = computation.contact_problem();
-    TimerOutput::Scope                t(timer, "error estimate");
+    PhaseTimer::Scope                 t(timer, "error estimate");
     Timer                             estimate_timer;
     admissible_displacement.reinit(computation.displacement());
     estimate  = estimator.estimate(problem,
@@ -405,7 +405,7 @@ namespace Signorini
                                    Vector<double>();
     if (reference.solved())
       {
-        TimerOutput::Scope t(timer, "reference comparison");
+        PhaseTimer::Scope t(timer, "reference comparison");
         results.reference_comparison(
           reference.compare(computation.dof_handler(),
                             replicate(computation.displacement()),
@@ -462,7 +462,7 @@ namespace Signorini
   void
   SignoriniProblem<dim>::output_results(const unsigned int cycle)
   {
-    TimerOutput::Scope t(timer, "output");
+    PhaseTimer::Scope t(timer, "output");
     results.write(cycle, computation, estimated ? &estimate.local : nullptr);
   }
 
@@ -494,7 +494,7 @@ namespace Signorini
   SignoriniProblem<dim>::solve_reference_on_initial_mesh()
   {
     results.message("Reference solution");
-    TimerOutput::Scope t(timer, "reference solution");
+    PhaseTimer::Scope t(timer, "reference solution");
     reference.solve_on_initial_mesh(mesh_input,
                                     mesh_input.initial_refinements + n_cycles -
                                       1 + reference.extra_refinements());
@@ -524,11 +524,11 @@ namespace Signorini
     results.message("Reference solution: the last mesh refined uniformly, " +
                     std::to_string(extra_levels) + " extra level(s)");
     {
-      TimerOutput::Scope t(timer, "reference solution");
+      PhaseTimer::Scope t(timer, "reference solution");
       reference.solve_on(reference_mesh, computation.contact_state());
       check_reference();
     }
-    TimerOutput::Scope t(timer, "reference comparison");
+    PhaseTimer::Scope t(timer, "reference comparison");
     results.final_reference_comparison(reference.compare_kept(),
                                        estimator.enabled());
   }
@@ -608,7 +608,7 @@ namespace Signorini
         reference.mesh() == ReferenceSolution<dim>::Mesh::final_mesh)
       compare_computations_with_final_reference();
     if (results.print_timing())
-      timer.print_summary();
+      timer.print_summary(MPI_COMM_WORLD);
   }
 
 

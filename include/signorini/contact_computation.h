@@ -2,7 +2,6 @@
 #define signorini_contact_computation_h
 
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/timer.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -27,6 +26,7 @@
 #include <signorini/load_path.h>
 #include <signorini/material.h>
 #include <signorini/mesh_input.h>
+#include <signorini/phase_timer.h>
 
 #include <functional>
 #include <memory>
@@ -98,7 +98,7 @@ namespace Signorini
 
     /// Parse the parts of the model; throws InputError for inconsistent
     /// input. Sections of @p timer time the steps.
-    ContactComputation(ParameterHandler &prm, TimerOutput &timer);
+    ContactComputation(ParameterHandler &prm, PhaseTimer &timer);
 
     /// DoFs, constraints, contact boundary and matrices on @p mesh (which
     /// must outlive the computation's use of it). Checks that every boundary
@@ -251,7 +251,7 @@ namespace Signorini
     /// The public constructor with @p with_nested_start = true; the
     /// computations on coarser meshes have none (no nesting inside them).
     ContactComputation(ParameterHandler &prm,
-                       TimerOutput      &timer,
+                       PhaseTimer       &timer,
                        const bool        with_nested_start);
 
     /// The nested start of enable_nested_start(): the contact state of the
@@ -331,8 +331,8 @@ namespace Signorini
     check_data_scale(
       const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
 
-    TimerOutput &timer;
-    MPI_Comm     mpi_communicator;
+    PhaseTimer &timer;
+    MPI_Comm    mpi_communicator;
 
     // The model
     LinearElasticMaterial<dim>             material_law;

@@ -2,7 +2,6 @@
 #define signorini_reference_solution_h
 
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/timer.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -16,6 +15,7 @@
 #include <signorini/contact_computation.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/mesh_input.h>
+#include <signorini/phase_timer.h>
 
 #include <memory>
 #include <vector>
@@ -161,7 +161,7 @@ namespace Signorini
 
     /// Times of the reference's steps (not printed: the application times
     /// the reference as a whole)
-    TimerOutput                              timer;
+    PhaseTimer                               timer;
     parallel::shared::Triangulation<dim>     triangulation;
     AdaptiveMesh<dim>                        adaptive_mesh;
     std::unique_ptr<ContactComputation<dim>> reference;

@@ -2,7 +2,6 @@
 #define signorini_signorini_problem_h
 
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/timer.h>
 
 #include <deal.II/lac/vector.h>
 
@@ -19,6 +18,7 @@
 #include <signorini/exact_solution.h>
 #include <signorini/linear_algebra.h>
 #include <signorini/mesh_input.h>
+#include <signorini/phase_timer.h>
 #include <signorini/reference_solution.h>
 #include <signorini/results_output.h>
 
@@ -173,7 +173,7 @@ namespace Signorini
 
     // What is reported, and when
     ResultsOutput<dim> results;
-    TimerOutput        timer;
+    PhaseTimer         timer;
 
     // The mesh: the conforming version of an adaptive hierarchy built on the
     // initial mesh. Every rank holds the whole mesh (parallel::shared: it
