@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numeric>
 
 namespace Signorini
 {
@@ -92,8 +93,21 @@ namespace Signorini
                                 Triangulation<dim>   &mesh)
   {
     hierarchy.clear();
+    hierarchy_released = false;
+    from_input         = true;
+    if (dim == 3)
+      {
+        // The input's tetrahedra are usually the mesh itself (one level,
+        // every vertex used): built as the mesh, without a hierarchy to copy
+        // them from, which on every rank held the mesh twice while it was
+        // made (the peak of a 5.3M-DoF run: doc/parallel.md)
+        mesh.clear();
+        input.create(mesh);
+        if (index_as_flat_mesh(mesh, input.initial_refinements))
+          return;
+        mesh.clear();
+      }
     input.create(hierarchy);
-    from_input = true;
     if (chosen_realisation == Realisation::bisection)
       {
         bisect(mesh, nullptr);
@@ -111,9 +125,30 @@ namespace Signorini
   AdaptiveMesh<dim>::adopt(Triangulation<dim> &mesh)
   {
     hierarchy.clear();
+    hierarchy_released = false;
+    from_input         = false;
+    if (dim == 3 && index_as_flat_mesh(mesh, 0))
+      return;
     hierarchy.copy_triangulation(mesh);
-    from_input = false;
     build_conforming_mesh(mesh);
+  }
+
+
+
+  template <int dim>
+  bool
+  AdaptiveMesh<dim>::index_as_flat_mesh(const Triangulation<dim> &mesh,
+                                        const unsigned int        level)
+  {
+    const auto &used = mesh.get_used_vertices();
+    if (mesh.n_levels() != 1 ||
+        !std::all_of(used.begin(), used.end(), [](const bool u) { return u; }))
+      return false;
+    hierarchy_cell_of.resize(mesh.n_active_cells());
+    std::iota(hierarchy_cell_of.begin(), hierarchy_cell_of.end(), 0u);
+    level_of.assign(mesh.n_active_cells(), level);
+    green_cells = 0;
+    return true;
   }
 
 
@@ -127,7 +162,7 @@ namespace Signorini
     AssertDimension(level_change.size(), level_of.size());
     Assert(from_input,
            ExcMessage("remesh() rebuilds from the input: not after adopt()"));
-    Assert(hierarchy.n_levels() > 0,
+    Assert(!hierarchy_released,
            ExcMessage("remesh() after release_hierarchy()"));
     if (chosen_realisation == Realisation::bisection)
       {
@@ -361,7 +396,7 @@ namespace Signorini
   std::pair<std::vector<int>, unsigned int>
   AdaptiveMesh<dim>::trial_remesh(const std::vector<int> &level_change)
   {
-    Assert(hierarchy.n_levels() > 0,
+    Assert(!hierarchy_released,
            ExcMessage("trial_remesh() after release_hierarchy()"));
     if constexpr (dim == 2)
       if (chosen_realisation == Realisation::bisection)
@@ -390,7 +425,8 @@ namespace Signorini
   AdaptiveMesh<dim>::release_hierarchy()
   {
     hierarchy.clear();
-    forest = BisectionForest();
+    hierarchy_released = true;
+    forest             = BisectionForest();
     return_free_memory_to_system(); // (about 0.3 GiB at 1.6M cells)
   }
 
@@ -417,14 +453,9 @@ namespace Signorini
   AdaptiveMesh<3>::build_conforming_mesh(Triangulation<3> &mesh)
   {
     // In 3D the hierarchy is the input's mesh, refined by MeshInput itself
-    // (uniform cycles rebuild it, see remesh()): its tetrahedra are copied,
-    // with the boundary ids of their faces. A hierarchy of one level with
-    // every vertex used is the mesh itself: it is copied whole, and its
-    // connectivity is not built a second time.
-    const bool copy_whole = hierarchy.n_levels() == 1 &&
-                            std::all_of(hierarchy.get_used_vertices().begin(),
-                                        hierarchy.get_used_vertices().end(),
-                                        [](const bool used) { return used; });
+    // (uniform cycles rebuild it, see remesh()). A flat one is the mesh
+    // itself and never stored (index_as_flat_mesh()); the others' active
+    // tetrahedra are copied, with the boundary ids of their faces.
     std::vector<CellData<3>> cells;
     SubCellData              boundary;
     hierarchy_cell_of.clear();
@@ -434,8 +465,6 @@ namespace Signorini
       {
         hierarchy_cell_of.push_back(cell->active_cell_index());
         level_of.push_back(cell->level());
-        if (copy_whole)
-          continue;
         for (const unsigned int f : cell->face_indices())
           {
             if (cell->face(f)->has_children())
@@ -459,14 +488,9 @@ namespace Signorini
         cells.push_back(data);
       }
     mesh.clear();
-    if (copy_whole)
-      mesh.copy_triangulation(hierarchy);
-    else
-      {
-        std::vector<Point<3>> vertices = hierarchy.get_vertices();
-        GridTools::delete_unused_vertices(vertices, cells, boundary);
-        mesh.create_triangulation(vertices, cells, boundary);
-      }
+    std::vector<Point<3>> vertices = hierarchy.get_vertices();
+    GridTools::delete_unused_vertices(vertices, cells, boundary);
+    mesh.create_triangulation(vertices, cells, boundary);
     AssertDimension(mesh.n_active_cells(), hierarchy_cell_of.size());
   }
 

@@ -137,6 +137,15 @@ namespace Signorini
     void
     bisect(Triangulation<dim> &mesh, const std::vector<int> *level_change);
 
+    /**
+     * In 3D, where the hierarchy is the input's mesh: if @p mesh is flat
+     * (one level, every vertex used) it is its own hierarchy, which is then
+     * not stored: index its cells as such, at @p level, and return true.
+     */
+    bool
+    index_as_flat_mesh(const Triangulation<dim> &mesh,
+                       const unsigned int        level);
+
     /// Close the hierarchy (green closure) and write it into @p mesh.
     void
     build_conforming_mesh(Triangulation<dim> &mesh);
@@ -152,6 +161,9 @@ namespace Signorini
     /// Whether the hierarchy starts from the input's mesh (not adopt()ed),
     /// as remesh() needs
     bool from_input = true;
+    /// Whether release_hierarchy() was called since the last initialize()
+    /// or adopt() (in 3D the hierarchy may be empty without that).
+    bool hierarchy_released = false;
   };
 
   /// In 3D: throws an InputError (the green closure bisects triangles).
