@@ -8,6 +8,7 @@ A study imports it from the folder above its own:
 """
 import csv
 import os
+import re
 import shutil
 import statistics
 import subprocess
@@ -87,6 +88,35 @@ def run_logged(command):
         log.seek(0)
         output = log.read()
     return output, os.waitstatus_to_exitcode(status), usage.ru_maxrss / 1024.
+
+
+def on_ranks(command, ranks):
+    """@p command under mpirun on @p ranks (oversubscribed, as root too),
+    or itself for one rank."""
+    if ranks <= 1:
+        return list(command)
+    return ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
+            str(ranks)] + list(command)
+
+
+def phase_tables(output):
+    """The tables a run prints with `Output/Print timing`: (phase -> (calls,
+    wall seconds), phase -> (peak MiB at its end, raised by MiB or None);
+    the second has "whole run" too)."""
+    times, memory = {}, {}
+    for line in output.splitlines():
+        timed = re.match(r"\|\s*([a-z ]+?)\s*\|\s*(\d+)\s*\|\s*([0-9.e+-]+)s",
+                         line)
+        if timed:
+            times[timed.group(1)] = (int(timed.group(2)),
+                                     float(timed.group(3)))
+        measured = re.match(r"\|\s*([a-z ]+?)\s*\|\s*([0-9.]+)\s*\|"
+                            r"\s*([0-9.]*)\s*\|$", line)
+        if measured:
+            raised = measured.group(3)
+            memory[measured.group(1)] = (float(measured.group(2)),
+                                         float(raised) if raised else None)
+    return times, memory
 
 
 def run_timed(command, **kwargs):

@@ -18,7 +18,6 @@ Usage: /usr/bin/python3 bench/block_3d/block_3d_bench.py [--level 4]
 """
 import argparse
 import os
-import re
 import statistics
 import sys
 import tempfile
@@ -32,18 +31,12 @@ def run(exe, ranks, overrides, work):
     """Run block-3d.prm with @p overrides on @p ranks; return (statistics
     row, stage seconds, peak MiB of the largest rank)."""
     prm, out = write_case("block-3d.prm", overrides, work)
-    command = [exe, prm]
-    if ranks > 1:
-        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
-                   str(ranks)] + command
+    command = runner.on_ranks([exe, prm], ranks)
     output, code, peak = run_logged(command)
     if code != 0:
         sys.exit(f"{command} failed:\n{output}")
-    stages = {}
-    for line in output.splitlines():
-        match = re.match(r"\|\s*([a-z ]+?)\s*\|\s*\d+\s*\|\s*([0-9.e+-]+)s", line)
-        if match:
-            stages[match.group(1)] = float(match.group(2))
+    times, _ = runner.phase_tables(output)
+    stages = {phase: seconds for phase, (_, seconds) in times.items()}
     row = runner.read_statistics(out)[-1]
     return row, stages, peak
 

@@ -17,7 +17,6 @@ Usage: /usr/bin/python3 bench/large_3d/large_3d_bench.py [--level 4]
 """
 import argparse
 import os
-import re
 import sys
 import tempfile
 
@@ -49,26 +48,12 @@ def main():
         "Output/Print timing": "true"}
     with tempfile.TemporaryDirectory() as work:
         prm, out = write_case("block-3d.prm", overrides, work)
-        command = [exe, prm]
-        if args.ranks > 1:
-            command = ["mpirun", "--allow-run-as-root", "--oversubscribe",
-                       "-np", str(args.ranks)] + command
+        command = runner.on_ranks([exe, prm], args.ranks)
         output, code, _ = run_logged(command)
         if code != 0:
             sys.exit(f"{command} failed:\n{output}")
         row = runner.read_statistics(out)[-1]
-    times, memory = {}, {}
-    for line in output.splitlines():
-        timed = re.match(r"\|\s*([a-z ]+?)\s*\|\s*(\d+)\s*\|\s*([0-9.e+-]+)s",
-                         line)
-        if timed:
-            times[timed.group(1)] = (int(timed.group(2)),
-                                     float(timed.group(3)))
-        measured = re.match(r"\|\s*([a-z ]+?)\s*\|\s*([0-9.]+)\s*\|"
-                            r"\s*([0-9.]*)\s*\|$", line)
-        if measured:
-            memory[measured.group(1)] = (float(measured.group(2)),
-                                         measured.group(3))
+    times, memory = runner.phase_tables(output)
     dofs, cells = int(row["dofs"]), int(row["cells"])
     print(f"{cells} tetrahedra, {dofs} DoFs, {args.ranks} ranks, estimate "
           f"{'on' if args.estimate else 'off'}; active set iterations "
@@ -77,10 +62,9 @@ def main():
           "raised by MiB |")
     print("|---|---:|---:|---:|---:|")
     for phase, (calls, seconds) in times.items():
-        peak, rise = memory.get(phase, (float("nan"), ""))
-        print(f"| {phase} | {calls} | {seconds:.3g} | {peak:.0f} | "
-              f"{float(rise):.0f} |" if rise else
-              f"| {phase} | {calls} | {seconds:.3g} | {peak:.0f} | |")
+        peak, raised = memory.get(phase, (float("nan"), None))
+        raised = "" if raised is None else f"{raised:.0f}"
+        print(f"| {phase} | {calls} | {seconds:.3g} | {peak:.0f} | {raised} |")
     peak = memory["whole run"][0]
     print(f"whole run: peak {peak:.0f} MiB on the largest rank, "
           f"{peak * 1024 * 1.024 / dofs:.2f} kB per DoF, "
