@@ -57,7 +57,8 @@ namespace Signorini
                       "(feasibility, multiplier sign, complementarity, "
                       "residual, resultant) exceed this has failed (exit code "
                       "2), whatever its solver reports (at least 1e-12: the "
-                      "checks of an exact solve are round-off).");
+                      "checks of an exact solve are round-off; with friction "
+                      "at least 1e-10).");
     prm.declare_entry("Nested start",
                       "true",
                       Patterns::Bool(),
@@ -120,6 +121,7 @@ namespace Signorini
     // the data of the end of the path unless a step is applied
     boundary_data.set_load_step(load_path_, load_path_.n_steps());
     friction_law_.set_time(1.);
+    FrictionalActiveSetSolver<dim>::warn_unused_parameters(prm, friction_law_);
     if (friction_law_.enabled() && gamma_c.boundary_ids().empty())
       warn_once("friction without contact",
                 "Contact/Friction = " + friction_law_.name() +
@@ -131,6 +133,7 @@ namespace Signorini
           throw InputError("Contact/Friction = " + friction_law_.name() +
                            " needs Contact/Solver = active set");
         prm.enter_subsection("Contact");
+        const std::string check_tolerance_text = prm.get("Check tolerance");
         prm.enter_subsection("Active set");
         friction_max_iterations = prm.get_integer("Maximum iterations");
         friction_preconditioner_update =
@@ -138,6 +141,15 @@ namespace Signorini
         friction_inexact_tolerance = prm.get_double("Inexact tolerance");
         prm.leave_subsection();
         prm.leave_subsection();
+        // (the friction iteration stops once its forces change by 1e-12 of
+        // the problem's forces, which the checks of the friction bound and
+        // the slip see relative to the contact forces: 3e-12 on the block)
+        if (check_tolerance < 1e-10)
+          throw InputError(
+            "Contact/Check tolerance = " + check_tolerance_text +
+            " is below what the friction iteration reaches (its checks are "
+            "at 1e-12 of the forces and above): with Contact/Friction = " +
+            friction_law_.name() + " at least 1e-10");
         friction_method = FrictionalActiveSetSolver<dim>::parse_method(prm);
         friction_uniqueness_steps =
           FrictionalActiveSetSolver<dim>::parse_uniqueness_check(prm);
@@ -375,6 +387,14 @@ namespace Signorini
   {
     check_step_data(step);
     make_constraints();
+    try
+      {
+        gamma_c.check_prescribed_nodes(dirichlet_constraints);
+      }
+    catch (const InputError &error)
+      {
+        throw InputError(step_context(step) + error.what());
+      }
     assemble(/*with_matrix=*/false);
   }
 

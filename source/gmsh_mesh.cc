@@ -364,16 +364,22 @@ namespace Signorini
                  " are not supported: signorini needs " +
                  (dim == 2 ? "3-node triangles" : "4-node tetrahedra"));
           if (block.physical_tags.size() > 1)
-            fail(std::string(
-                   entity_names[std::clamp(block.entity_dimension, 0, 3)]) +
-                 " " + std::to_string(block.entity_tag) + " belongs to " +
-                 std::to_string(block.physical_tags.size()) +
-                 " physical groups (tags " +
-                 std::to_string(block.physical_tags[0]) + " and " +
-                 std::to_string(block.physical_tags[1]) +
-                 "), so that its elements have no single id (an msh 2 file "
-                 "may tag the elements of one entity differently): give "
-                 "each physical group entities of its own");
+            {
+              std::string tags;
+              for (std::size_t i = 0; i < block.physical_tags.size(); ++i)
+                tags += (i == 0                              ? "" :
+                         i + 1 == block.physical_tags.size() ? " and " :
+                                                               ", ") +
+                        std::to_string(block.physical_tags[i]);
+              fail(std::string(
+                     entity_names[std::clamp(block.entity_dimension, 0, 3)]) +
+                   " " + std::to_string(block.entity_tag) + " belongs to " +
+                   std::to_string(block.physical_tags.size()) +
+                   " physical groups (tags " + tags +
+                   "), so that its elements have no single id (an msh 2 file "
+                   "may tag the elements of one entity differently): give "
+                   "each physical group entities of its own");
+            }
           const int physical =
             block.physical_tags.empty() ? 0 : block.physical_tags[0];
           if (physical < 0)

@@ -356,9 +356,16 @@ namespace Signorini
     const std::vector<types::global_dof_index> &supports,
     const bool                                  prefer_direct)
   {
-    rigid_motions        = &motions;
-    stiffness_matrix     = &stiffness;
-    translation_modes    = constant_modes;
+    rigid_motions     = &motions;
+    stiffness_matrix  = &stiffness;
+    translation_modes = constant_modes;
+    // (the translation modes are one per component: their number is the
+    // dimension; a rank without dofs has none, and every rank must give the
+    // AMG the same number and choose the same direct package)
+    const unsigned int dimension =
+      Utilities::MPI::max(static_cast<unsigned int>(constant_modes.size()),
+                          stiffness.get_mpi_communicator());
+    translation_modes.resize(dimension);
     base_eliminated_dofs = supports;
     for (const auto &line : base_constraints.get_lines())
       base_eliminated_dofs.push_back(line.index);
@@ -366,14 +373,12 @@ namespace Signorini
     base_eliminated_dofs.erase(std::unique(base_eliminated_dofs.begin(),
                                            base_eliminated_dofs.end()),
                                base_eliminated_dofs.end());
-    // (the translation modes are one per component: their number is the
-    // dimension)
     package = direct_package;
     if (direct_package == "automatic")
       {
         const std::vector<std::string> available = available_direct_packages();
         package =
-          (constant_modes.size() == 3 &&
+          (dimension == 3 &&
            std::find(available.begin(), available.end(), "Amesos_Mumps") !=
              available.end()) ?
             "Amesos_Mumps" :
@@ -641,7 +646,8 @@ namespace Signorini
         throw std::runtime_error(
           "the linear elasticity solve did not converge in " +
           std::to_string(exc.last_step) + " CG iterations (residual " +
-          Utilities::to_string(exc.last_residual) + ")");
+          Utilities::to_string(exc.last_residual) +
+          "; Linear solver/Maximum iterations and Relative tolerance)");
       }
     constraints.distribute(solution);
     return control.last_step();

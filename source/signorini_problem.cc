@@ -175,11 +175,11 @@ namespace Signorini
         unsigned int possible = 1;
         while (cells(initial + possible) <= max_cells)
           ++possible;
-        throw InputError("Number of cycles: " + std::to_string(n_cycles) +
-                         " uniform cycles need " +
-                         cell_count(cells(initial + n_cycles - 1)) +
-                         " cells in the last one" + limit + " (at most " +
-                         std::to_string(possible) + " cycles)");
+        throw InputError(
+          "Number of cycles: " + std::to_string(n_cycles) +
+          " uniform cycles need " + cell_count(cells(initial + n_cycles - 1)) +
+          " cells in the last one" + limit + " (at most " +
+          std::to_string(possible) + (possible == 1 ? " cycle)" : " cycles)"));
       }
     if (!reference.enabled())
       return;

@@ -1,3 +1,4 @@
+#include <deal.II/base/bounding_box.h>
 #include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/fe/fe_values.h>
@@ -306,6 +307,56 @@ namespace Signorini
           }
       }
     check_data(mapping, dof_handler);
+    check_prescribed_nodes(dirichlet_constraints);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactBoundary<dim>::check_prescribed_nodes(
+    const AffineConstraints<double> &dirichlet_constraints) const
+  {
+    // (lengths, compared relative to the size of GC and of the data: a gap
+    // and a prescribed displacement that agree up to round-off pass)
+    const double length = size();
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        if (nodes[k].has_multiplier)
+          continue;
+        double prescribed = 0.;
+        bool   held       = true;
+        for (unsigned int c = 0; c < dim; ++c)
+          if (std::abs(contact_direction[c]) > 1e-12)
+            {
+              const types::global_dof_index dof = nodes[k].dofs[c];
+              const auto                   *entries =
+                dirichlet_constraints.get_constraint_entries(dof);
+              if (entries == nullptr || !entries->empty())
+                held = false;
+              else
+                prescribed += contact_direction[c] *
+                              dirichlet_constraints.get_inhomogeneity(dof);
+            }
+        if (held && prescribed - gap_at_nodes[k] >
+                      1e-10 * (length + std::abs(prescribed) +
+                               std::abs(gap_at_nodes[k])))
+          {
+            std::ostringstream text;
+            text.precision(4);
+            text << "Contact/Gap and Boundary conditions/Dirichlet: the node "
+                    "of GC at "
+                 << point_text(nodes[k].position)
+                 << " is held by a Dirichlet condition at a displacement of "
+                 << prescribed << " along Contact/Direction, beyond its gap "
+                 << gap_at_nodes[k]
+                 << ": the body is held in penetration there, and no "
+                    "displacement meets the contact condition (give a gap at "
+                    "least the prescribed displacement there, or leave the "
+                    "node free)";
+            throw InputError(text.str());
+          }
+      }
   }
 
 
@@ -528,6 +579,22 @@ namespace Signorini
       if (forces[k] != 0.)
         pressures[k] = -forces[k] / areas[k];
     return pressures;
+  }
+
+
+
+  template <int dim>
+  double
+  ContactBoundary<dim>::size() const
+  {
+    if (nodes.empty())
+      return 0.;
+    std::vector<Point<dim>> positions;
+    for (const Node &node : nodes)
+      positions.push_back(node.position);
+    const BoundingBox<dim> box(positions);
+    const auto             corners = box.get_boundary_points();
+    return corners.first.distance(corners.second);
   }
 
 

@@ -3,7 +3,9 @@
 #include <signorini/contact/discrete_problem.h>
 #include <signorini/input_error.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace Signorini
 {
@@ -113,6 +115,13 @@ namespace Signorini
     , rigid_motions(rigid_motions)
     , linear_solver(linear_solver)
   {
+    for (const auto i : load.locally_owned_elements())
+      largest_diagonal =
+        std::max(largest_diagonal, std::abs(stiffness.diag_element(i)));
+    largest_diagonal =
+      std::max(Utilities::MPI::max(largest_diagonal,
+                                   load.get_mpi_communicator()),
+               std::numeric_limits<double>::min());
     // (the order of doc/library.md: a problem of objects not set up gave no
     // contact at all, or a crash later)
     if (!boundary.is_reinitialised())
@@ -658,8 +667,9 @@ namespace Signorini
     double weight = 0.;
     for (unsigned int i = 0; i < n_constraints(); ++i)
       weight = std::max(weight, contact_condition.row_weight(i));
-    return weight *
-           std::max(u.linfty_norm(), max_norm(contact_boundary.nodal_gap()));
+    return weight * std::max({u.linfty_norm(),
+                              max_norm(contact_boundary.nodal_gap()),
+                              force_scale() / largest_diagonal});
   }
 
   template <int dim>

@@ -21,6 +21,11 @@ namespace Signorini
     /// The most Arnoldi steps of the uniqueness check, and the most its
     /// least number (Contact/Uniqueness check steps) may be.
     constexpr unsigned int max_uniqueness_steps = 50;
+    /// The defaults of Contact/Friction solver, Uniqueness check and
+    /// Uniqueness check steps.
+    constexpr const char *default_friction_solver  = "semismooth Newton";
+    constexpr const char *default_uniqueness_check = "true";
+    constexpr const char *default_uniqueness_steps = "2";
 
     /**
      * What the method needs to know of the condition's rows and the nodes
@@ -383,7 +388,7 @@ namespace Signorini
   {
     prm.enter_subsection("Contact");
     prm.declare_entry("Friction solver",
-                      "semismooth Newton",
+                      default_friction_solver,
                       Patterns::Selection("semismooth Newton|fixed point"),
                       "Coulomb friction: the active set method with the "
                       "bound mu y lagged by one step (semismooth Newton; "
@@ -393,7 +398,7 @@ namespace Signorini
                       "to the same solution, which says when it does not "
                       "contract). Tresca: the same.");
     prm.declare_entry("Uniqueness check",
-                      "true",
+                      default_uniqueness_check,
                       Patterns::Bool(),
                       "Coulomb friction: estimate how fast the fixed point "
                       "on the Tresca threshold contracts at the solution "
@@ -403,7 +408,7 @@ namespace Signorini
                         "solve) and refuse the solution where it does not "
                         "(rate >= 1: not shown to be locally unique).");
     prm.declare_entry("Uniqueness check steps",
-                      "2",
+                      default_uniqueness_steps,
                       Patterns::Integer(1, max_uniqueness_steps),
                       "Coulomb friction: the least number of Arnoldi steps "
                       "(one linear solve each) of the uniqueness check (at "
@@ -436,6 +441,44 @@ namespace Signorini
     const bool fixed_point = (prm.get("Friction solver") == "fixed point");
     prm.leave_subsection();
     return fixed_point ? Method::fixed_point : Method::semismooth_newton;
+  }
+
+
+
+  template <int dim>
+  void
+  FrictionalActiveSetSolver<dim>::warn_unused_parameters(
+    ParameterHandler       &prm,
+    const FrictionLaw<dim> &law)
+  {
+    prm.enter_subsection("Contact");
+    // (as given: a value other than the default is a choice the run would
+    // silently ignore)
+    const std::string solver = prm.get("Friction solver");
+    const bool        check_changed =
+      prm.get_bool("Uniqueness check") !=
+      (std::string(default_uniqueness_check) == "true");
+    const bool steps_changed = prm.get_integer("Uniqueness check steps") !=
+                               std::stoi(default_uniqueness_steps);
+    const bool check_on = prm.get_bool("Uniqueness check");
+    prm.leave_subsection();
+    const auto coulomb = FrictionLaw<dim>::Type::coulomb;
+    if (!law.enabled() && solver != default_friction_solver)
+      warn_once("friction solver",
+                "Contact/Friction solver = " + solver +
+                  " is not used: Contact/Friction = none",
+                MPI_COMM_WORLD);
+    if (law.type() != coulomb && (check_changed || steps_changed))
+      warn_once("uniqueness check",
+                "Contact/Uniqueness check and Uniqueness check steps are not "
+                "used: they are Coulomb's, and Contact/Friction = " +
+                  law.name(),
+                MPI_COMM_WORLD);
+    else if (law.type() == coulomb && !check_on && steps_changed)
+      warn_once("uniqueness check steps",
+                "Contact/Uniqueness check steps is not used: Contact/"
+                "Uniqueness check = false",
+                MPI_COMM_WORLD);
   }
 
 

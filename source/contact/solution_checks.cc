@@ -80,16 +80,20 @@ namespace Signorini
     imbalance += contact_forces;
     LA::Vector applied(problem.load());
     applied += contact_forces;
-    // the scale of the residual: the largest applied force, or, when the
+    // the scale of the residual: the largest applied force (a load or a
+    // contact force: not their sum, which vanishes where the foundation
+    // carries the load of a node that nothing else holds), or, when the
     // loads vanish or are small (a rigid motion imposed by Dirichlet data),
     // the forces K_ii |u_D,i| the imposed displacements exert on their own
     // (their sum likewise for the resultant)
     double applied_scale = 0., imposed_scale = 0., imposed_sum = 0.;
-    double load_sum                      = 0.; // sum of |forces|
-    const AffineConstraints<double> &all = problem.constraints();
+    double load_sum                       = 0.; // sum of |forces|
+    const AffineConstraints<double> &all  = problem.constraints();
+    const LA::Vector                &load = problem.load();
     for (const auto i : u.locally_owned_elements())
       if (!all.is_constrained(i))
-        applied_scale = std::max(applied_scale, std::abs(applied[i]));
+        applied_scale = std::max(
+          {applied_scale, std::abs(load[i]), std::abs(contact_forces[i])});
       else if (dirichlet_constraints.is_inhomogeneously_constrained(i))
         {
           const double force =
@@ -114,11 +118,16 @@ namespace Signorini
             upper[d] = std::max(upper[d], x[d]);
           }
         double f = applied[i];
+        // (the forces one by one: a load and a contact force or reaction
+        // that cancel at a dof still count)
+        load_sum += std::abs(load[i]) + std::abs(contact_forces[i]);
         if (dirichlet_constraints.is_constrained(i))
-          f -= imbalance[i]; // add the reaction
+          {
+            f -= imbalance[i]; // add the reaction
+            load_sum += std::abs(imbalance[i]);
+          }
         else if (!all.is_constrained(i))
           checks.residual = std::max(checks.residual, std::abs(imbalance[i]));
-        load_sum += std::abs(f);
         const unsigned int c = dof_component[i];
         force[c] += f;
         for (unsigned int p = 0; p < n_planes; ++p)

@@ -7,10 +7,12 @@
 
 #include <signorini/discretisation_check.h>
 #include <signorini/estimator/constitutive_relation_error.h>
+#include <signorini/input_error.h>
 
 #include <limits>
 #include <map>
 #include <numeric>
+#include <sstream>
 
 namespace Signorini
 {
@@ -87,7 +89,10 @@ namespace Signorini
     template <int dim>
     struct ContactPoint
     {
-      Point<dim>     position;
+      Point<dim> position;
+      /// g interpolated between the face's nodes (the gap G_k = g(x_k) the
+      /// admissible displacement meets: the foundation of the bound).
+      double         gap             = 0.;
       double         normal_reaction = 0., bound = 0., JxW = 0.;
       Tensor<1, dim> tangential_reaction, origin;
       /// (node of GC, its hat function at the point)
@@ -95,7 +100,10 @@ namespace Signorini
     };
 
     /// The integrand of the contact term for the displacement @p w at
-    /// @p point: R^_n (W_n - g), with friction plus the bipotential's
+    /// @p point: R^_n (W_n - G), G the gap interpolated between the nodes
+    /// (>= 0: both factors are linear along the face, with a fixed sign at
+    /// its nodes; with g itself it may be negative where g is not linear
+    /// along the face), with friction plus the bipotential's
     /// friction part s |W_t| + R^_t . W_t (>= 0 with |R^_t| <= s, both P1;
     /// s = mu |R^_n| for Coulomb; W_t the slip since the previous load step:
     /// origin has tangential components only).
@@ -106,9 +114,8 @@ namespace Signorini
                       const ContactBoundary<dim> &boundary,
                       const bool                  with_friction)
     {
-      const double w_n = w * boundary.direction();
-      double       term =
-        point.normal_reaction * (w_n - boundary.gap(point.position));
+      const double w_n  = w * boundary.direction();
+      double       term = point.normal_reaction * (w_n - point.gap);
       if (with_friction)
         {
           const Tensor<1, dim> w_t =
@@ -175,7 +182,7 @@ namespace Signorini
                 {
                   point.position        = fe_face_values.quadrature_point(q);
                   point.JxW             = fe_face_values.JxW(q);
-                  point.normal_reaction = point.bound = 0.;
+                  point.normal_reaction = point.bound = point.gap = 0.;
                   point.tangential_reaction = point.origin = Tensor<1, dim>();
                   point.hats.clear();
                   for (const auto &[k, i] : face_nodes)
@@ -189,6 +196,7 @@ namespace Signorini
                       else
                         hat = fe_face_values.shape_value_component(i, q, 0);
                       point.hats.emplace_back(k, hat);
+                      point.gap += hat * boundary.nodal_gap()[k];
                       point.normal_reaction += hat * fields.normal_reaction[k];
                       if (with_friction)
                         {
@@ -531,7 +539,10 @@ namespace Signorini
              equilibrium_defect = 0., condition_defect = 0.;
       std::vector<std::pair<std::string, double>> step_seconds;
     };
-    const auto terms_for = [&](const LA::Vector &admissible) {
+    // how far g is from its interpolation between the nodes of GC, the
+    // gap of the contact term
+    double     gap_deviation = 0.;
+    const auto terms_for     = [&](const LA::Vector &admissible) {
       Terms terms;
       // sigma^ and the volume terms, on the cells of this rank (which read
       // the dofs of the cells around them)
@@ -561,6 +572,9 @@ namespace Signorini
             terms.contact_local[cell] +=
               2. * contact_integrand(point, w, boundary, with_friction) *
               point.JxW;
+            gap_deviation =
+              std::max(gap_deviation,
+                       std::abs(boundary.gap(point.position) - point.gap));
           });
 
       // every rank filled the entries of its cells: complete them
@@ -583,7 +597,20 @@ namespace Signorini
         terms.contact_term = 0.;
       return terms;
     };
-    Terms terms = terms_for(admissible_displacement);
+    Terms terms   = terms_for(admissible_displacement);
+    gap_deviation = Utilities::MPI::max(gap_deviation, communicator);
+    if (gap_deviation >
+        1e-10 * (boundary.size() + boundary.nodal_gap().linfty_norm()))
+      {
+        std::ostringstream text;
+        text.precision(3);
+        text << "Contact/Gap is not linear along the faces of GC: it differs "
+                "from its interpolation between the nodes by up to "
+             << gap_deviation
+             << "; the error estimate is that of the foundation so "
+                "interpolated (doc/estimator.md, \"The guaranteed bound\")";
+        warn_once("gap not linear", text.str(), communicator);
+      }
 
     // with friction, a second U^ with less slip where it lowers e^2 for
     // this sigma^ (lower_friction_term()), if by at least 1 %: the sharper

@@ -32,6 +32,9 @@ namespace Signorini
 {
   namespace
   {
+    /// The default of Element equilibration/Local degree.
+    constexpr const char *default_local_degree = "3";
+
     /**
      * The space of the local Neumann problems on a triangle E = x0 + J T
      * (T the reference triangle): vector polynomials of total degree <= k
@@ -1859,7 +1862,7 @@ namespace Signorini
     prm.enter_subsection("Error estimator");
     prm.enter_subsection("Element equilibration");
     prm.declare_entry("Local degree",
-                      "3",
+                      default_local_degree,
                       Patterns::Integer(2, 6),
                       "Polynomial degree p + k of the element problems "
                       "(p = 1; the paper's k = 2 or 3; 3 or 4 on "
@@ -1951,6 +1954,17 @@ namespace Signorini
       throw InputError(
         "Error estimator/Element equilibration/Simplex implementation = true "
         "has no minimised densities: choose enhanced or least squares");
+    // (the minimised densities solve element problems of that degree)
+    if (element_stress == ElementStress::equilibrated &&
+        traction_densities != TractionDensities::minimised &&
+        local_degree != std::stoul(default_local_degree))
+      warn_once("local degree",
+                "Error estimator/Element equilibration/Local degree = " +
+                  std::to_string(local_degree) +
+                  " is not used: it is the degree of the element problems, "
+                  "which Element stress = equilibrated solves none of "
+                  "(nor the densities, unless minimised)",
+                MPI_COMM_WORLD);
     if (dim == 3 && traction_densities == TractionDensities::minimised)
       throw InputError(
         "Error estimator/Element equilibration/Traction densities = "

@@ -149,6 +149,25 @@ namespace Signorini
     unsigned int
     n_contact_cells() const;
 
+    /// The diagonal of the bounding box of GC's nodes: the length scale of
+    /// comparisons of gaps and displacements (0 without nodes).
+    double
+    size() const;
+
+    /**
+     * Refuse (InputError) a node of GC whose displacement along nu_c the
+     * Dirichlet @p dirichlet_constraints prescribe beyond its gap G_k: the
+     * body is held in penetration there, and no displacement meets the
+     * contact condition (the discrete problem has no solution, and an
+     * estimate of its error would not be a bound). A node whose normal
+     * displacement is only partly prescribed is not checked. reinit() calls
+     * it with the constraints it is given; a load step calls it again with
+     * its own.
+     */
+    void
+    check_prescribed_nodes(
+      const AffineConstraints<double> &dirichlet_constraints) const;
+
   private:
     /**
      * Called by reinit() once G and ghat are built: refuse a gap that is

@@ -198,7 +198,10 @@ namespace Signorini
     const AffineConstraints<double> &
     constraints() const;
 
-    /// A typical size of the entries of B u, for relative tolerances.
+    /// A typical size of the entries of B u, for relative tolerances: of
+    /// u, the gaps and the displacement force_scale() / max K_ii the loads
+    /// give a node on its own (the scale when u and the gaps vanish: a
+    /// load the foundation carries at a node that nothing else holds).
     double
     constraint_scale(const LA::Vector &u) const;
 
@@ -234,6 +237,8 @@ namespace Signorini
     const ContactCondition<dim>     &contact_condition;
     const RigidMotions<dim>         &rigid_motions;
     ElasticitySolver                &linear_solver;
+    /// max K_ii over all ranks.
+    double largest_diagonal = 0.;
     /// The base constraints plus u_s = 0 at the supports (if any).
     AffineConstraints<double> supported_constraints;
     AffineConstraints<double> homogeneous_supported_constraints;

@@ -181,6 +181,11 @@ namespace Signorini
     /// number of steps of the check, 0 if it is off.
     static unsigned int
     parse_uniqueness_check(ParameterHandler &prm);
+    /// Warn (once per run) of the parameters above that @p law does not
+    /// use but the input changed: the friction solver without friction,
+    /// the uniqueness check without Coulomb's law or switched off.
+    static void
+    warn_unused_parameters(ParameterHandler &prm, const FrictionLaw<dim> &law);
 
     /// @p preconditioner_update_fraction: rebuild the elasticity
     /// preconditioner for the current sets (active normal rows, sticking
