@@ -589,9 +589,15 @@ namespace Signorini
           }
         output_results(cycle);
         if (!computation.converged())
-          throw std::runtime_error("cycle " + std::to_string(cycle) + ": " +
-                                   computation.failure() +
-                                   " (outputs written)");
+          {
+            // (where the time of the failed run went; the decision is the
+            // same on every rank, and the summary gathers over them)
+            if (results.print_timing())
+              timer.print_summary(MPI_COMM_WORLD);
+            throw std::runtime_error("cycle " + std::to_string(cycle) + ": " +
+                                     computation.failure() +
+                                     " (outputs written)");
+          }
         std::ostringstream target;
         target << "Target error " << 100. * adaptation_target.target_error
                << " %";

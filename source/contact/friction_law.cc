@@ -4,6 +4,7 @@
 #include <signorini/input_error.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace Signorini
@@ -130,6 +131,16 @@ namespace Signorini
         std::ostringstream text;
         text << "Contact/Friction threshold is " << s << " at (" << x
              << "): it must be finite and >= 0";
+        throw InputError(text.str());
+      }
+    // (as a subnormal Friction coefficient is refused: no threshold is
+    // that small, and the arithmetic of such numbers is slow and inexact)
+    if (s > 0. && s < std::numeric_limits<double>::min())
+      {
+        std::ostringstream text;
+        text << "Contact/Friction threshold is " << s << " at (" << x
+             << "): too small for double precision (subnormal); change the "
+                "units or make it 0";
         throw InputError(text.str());
       }
     return s;
