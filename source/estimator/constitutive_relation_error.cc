@@ -599,8 +599,9 @@ namespace Signorini
     };
     Terms terms   = terms_for(admissible_displacement);
     gap_deviation = Utilities::MPI::max(gap_deviation, communicator);
-    if (gap_deviation >
-        1e-10 * (boundary.size() + boundary.nodal_gap().linfty_norm()))
+    if (boundary.n_nodes() > 0 &&
+        gap_deviation >
+          1e-10 * (boundary.size() + boundary.nodal_gap().linfty_norm()))
       {
         std::ostringstream text;
         text.precision(3);
