@@ -149,6 +149,241 @@ namespace Signorini
             throw InputError(text.str());
           }
     }
+
+
+
+    /**
+     * The fields of the nodes of GC as P1 functions that vanish away from
+     * it: the contact pressure -Lambda, the nodal pressure and the active
+     * set; with friction the status of each node (0 separated, 1 stick, 2
+     * slip), its tangential force, its slip in the computation and its
+     * accumulated slip.
+     */
+    template <int dim>
+    struct ContactNodeFields
+    {
+      ContactNodeFields(const ContactComputation<dim> &computation,
+                        const DoFHandler<dim>         &scalar_dof_handler)
+        : pressure(scalar_dof_handler.n_dofs())
+        , nodal_pressure(scalar_dof_handler.n_dofs())
+        , active(scalar_dof_handler.n_dofs())
+      {
+        std::map<unsigned int, types::global_dof_index> dof_of_vertex;
+        for (const auto &cell : scalar_dof_handler.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
+        const ContactBoundary<dim> &contact_boundary =
+          computation.contact_boundary();
+        const Vector<double> lambda =
+          computation.condition().multiplier(computation.dual());
+        const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
+        for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
+          {
+            const auto dof =
+              dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
+            pressure[dof] = -lambda[i];
+            active[dof]   = computation.active_set()[i] ? 1. : 0.;
+          }
+        const Vector<double> pressures = contact_boundary.nodal_pressures(
+          computation.condition().nodal_forces(computation.dual()));
+        for (unsigned int k = 0; k < contact_boundary.n_nodes(); ++k)
+          if (dof_of_vertex.count(contact_boundary.node(k).vertex) > 0)
+            nodal_pressure[dof_of_vertex[contact_boundary.node(k).vertex]] =
+              pressures[k];
+
+        if (!computation.friction_law().enabled())
+          return;
+        const FrictionState<dim> &friction = computation.friction();
+        const std::size_t         n_dofs   = computation.dof_handler().n_dofs();
+        friction_status.reinit(scalar_dof_handler.n_dofs());
+        tangential_force.reinit(n_dofs);
+        slip.reinit(n_dofs);
+        accumulated_slip.reinit(n_dofs);
+        for (unsigned int i = 0; i < friction.status.size(); ++i)
+          {
+            const auto &node = contact_boundary.node(multiplier_nodes[i]);
+            friction_status[dof_of_vertex[node.vertex]] =
+              static_cast<double>(friction.status[i]);
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                tangential_force[node.dofs[d]] =
+                  friction.nodal_force[multiplier_nodes[i]][d];
+                slip[node.dofs[d]] = friction.slip[i][d];
+                accumulated_slip[node.dofs[d]] =
+                  friction.accumulated_slip[i][d];
+              }
+          }
+      }
+
+      /// Adds the fields to @p data_out (the friction fields if computed).
+      void
+      add_to(DataOut<dim>          &data_out,
+             const DoFHandler<dim> &dof_handler,
+             const DoFHandler<dim> &scalar_dof_handler) const
+      {
+        data_out.add_data_vector(scalar_dof_handler,
+                                 pressure,
+                                 "contact_pressure");
+        data_out.add_data_vector(scalar_dof_handler,
+                                 nodal_pressure,
+                                 "nodal_pressure");
+        data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
+        if (friction_status.size() == 0)
+          return;
+        const std::vector<
+          DataComponentInterpretation::DataComponentInterpretation>
+          vector_part(dim,
+                      DataComponentInterpretation::component_is_part_of_vector);
+        data_out.add_data_vector(scalar_dof_handler,
+                                 friction_status,
+                                 "friction_status");
+        data_out.add_data_vector(dof_handler,
+                                 tangential_force,
+                                 std::vector<std::string>(dim,
+                                                          "tangential_force"),
+                                 vector_part);
+        data_out.add_data_vector(dof_handler,
+                                 slip,
+                                 std::vector<std::string>(dim, "slip"),
+                                 vector_part);
+        data_out.add_data_vector(dof_handler,
+                                 accumulated_slip,
+                                 std::vector<std::string>(dim,
+                                                          "accumulated_slip"),
+                                 vector_part);
+      }
+
+      Vector<double> pressure, nodal_pressure, active;
+      Vector<double> friction_status, tangential_force, slip, accumulated_slip;
+    };
+
+
+
+    /**
+     * Writes the patches of @p data_out (the fields of @p computation, the
+     * cells this rank owns) as @p base.vtu, or, if a rank owns more than
+     * @p cells_per_file cells, in pieces of at most that many, one at a time
+     * (DataOut holds the patches of every cell it writes at once: about 0.9
+     * kB per tetrahedron with these fields, 0.6 GB at 590k tetrahedra, more
+     * than the low-memory solve; doc/benchmarks.md), each a .vtu file listed
+     * in @p base.pvtu. Every piece is checked against single precision
+     * before any is written (@p what names the file in errors). Returns the
+     * name to list in the .pvd record.
+     */
+    template <int dim>
+    std::string
+    write_in_pieces(const std::string             &base,
+                    const std::string             &what,
+                    const ContactComputation<dim> &computation,
+                    NamedDataOut<dim>             &data_out,
+                    const unsigned int             cells_per_file,
+                    OutputDirectory               &output_files,
+                    const MPI_Comm                 mpi_communicator)
+    {
+      const bool root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
+      using cell_iterator = typename Triangulation<dim>::cell_iterator;
+      const Triangulation<dim> &triangulation =
+        computation.dof_handler().get_triangulation();
+      const auto        range = triangulation.active_cell_iterators();
+      const std::size_t n_owned =
+        std::count_if(range.begin(), range.end(), [](const auto &cell) {
+          return cell->is_locally_owned();
+        });
+      const unsigned int n_local_pieces =
+        std::max<std::size_t>(1,
+                              (n_owned + cells_per_file - 1) / cells_per_file);
+      const std::vector<unsigned int> pieces_of_rank =
+        Utilities::MPI::all_gather(mpi_communicator, n_local_pieces);
+      const unsigned int rank =
+        Utilities::MPI::this_mpi_process(mpi_communicator);
+      const unsigned int first_piece =
+        std::accumulate(pieces_of_rank.begin(),
+                        pieces_of_rank.begin() + rank,
+                        0u);
+      const unsigned int n_pieces =
+        std::accumulate(pieces_of_rank.begin(), pieces_of_rank.end(), 0u);
+      // piece p: the owned cells n_owned p / n_local_pieces and on, in
+      // DataOut's order, up to the first of the next piece (or the end)
+      std::vector<cell_iterator> piece_start;
+      unsigned int               piece = 0;
+      if (n_local_pieces > 1)
+        {
+          std::size_t k = 0;
+          for (const auto &cell : range)
+            if (cell->is_locally_owned())
+              {
+                if (k == n_owned * piece_start.size() / n_local_pieces)
+                  piece_start.push_back(cell);
+                ++k;
+              }
+          piece_start.push_back(triangulation.end());
+          data_out.set_cell_selection(
+            [&](const Triangulation<dim> &) { return piece_start[piece]; },
+            [&](const Triangulation<dim> &tria,
+                const cell_iterator      &cell) -> cell_iterator {
+              typename Triangulation<dim>::active_cell_iterator next = cell;
+              do
+                ++next;
+              while (next != tria.end() && !next->is_locally_owned());
+              return next == piece_start[piece + 1] ? tria.end() : next;
+            });
+        }
+      const auto build_piece = [&](const unsigned int p) {
+        piece = p;
+        data_out.build_patches(computation.mapping());
+      };
+
+      // every piece checked before any is written
+      SinglePrecisionOverflow overflow;
+      for (unsigned int p = 0; p < n_local_pieces; ++p)
+        {
+          build_piece(p);
+          scan_single_precision(data_out, overflow);
+        }
+      refuse_beyond_single_precision(what,
+                                     overflow,
+                                     data_out.get_dataset_names(),
+                                     mpi_communicator);
+      refuse_below_single_precision(what, computation);
+      // zlib's fastest level: deal.II's default, its best, takes 3 times as
+      // long for files about 10 % smaller (bench/small_runs)
+      DataOutBase::VtkFlags vtk_flags;
+      vtk_flags.compression_level = DataOutBase::VtkFlags::best_speed;
+      data_out.set_flags(vtk_flags);
+      // one file for one piece; else base.PPP.vtu, the pieces numbered rank
+      // by rank, and a .pvtu record
+      if (n_pieces == 1)
+        {
+          const std::string name = base + ".vtu";
+          output_files.write(name, [&](std::ostream &out) {
+            data_out.write_vtu(out);
+          });
+          return name;
+        }
+      std::vector<std::string> pieces;
+      for (unsigned int p = 0; p < n_pieces; ++p)
+        pieces.push_back(base + "." + Utilities::int_to_string(p, 3) + ".vtu");
+      // rank 0 lists every piece before any is written, so that a run
+      // stopped in between leaves no unlisted file
+      if (root)
+        for (const auto &file : pieces)
+          output_files.record(file);
+      MPI_Barrier(mpi_communicator);
+      for (unsigned int p = 0; p < n_local_pieces; ++p)
+        {
+          if (n_local_pieces > 1)
+            build_piece(p);
+          output_files.write(pieces[first_piece + p], [&](std::ostream &out) {
+            data_out.write_vtu(out);
+          });
+        }
+      const std::string name = base + ".pvtu";
+      if (root)
+        output_files.write(name, [&](std::ostream &out) {
+          data_out.write_pvtu_record(out, pieces);
+        });
+      return name;
+    }
   } // namespace
 
 
@@ -815,40 +1050,12 @@ namespace Signorini
                                 const Vector<double>          *eps_E,
                                 const Vector<double>          *eps_ex_E)
   {
-    const bool             root        = pcout.is_active();
     const DoFHandler<dim> &dof_handler = computation.dof_handler();
     const FE_SimplexP<dim> scalar_fe(1);
     DoFHandler<dim>        scalar_dof_handler(dof_handler.get_triangulation());
     scalar_dof_handler.distribute_dofs(scalar_fe);
-
-    // contact fields as P1 functions that vanish away from GC
-    Vector<double> pressure(scalar_dof_handler.n_dofs());
-    Vector<double> nodal_pressure(scalar_dof_handler.n_dofs());
-    Vector<double> active(scalar_dof_handler.n_dofs());
-    std::map<unsigned int, types::global_dof_index> dof_of_vertex;
-    for (const auto &cell : scalar_dof_handler.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
-    {
-      const ContactBoundary<dim> &contact_boundary =
-        computation.contact_boundary();
-      const Vector<double> lambda =
-        computation.condition().multiplier(computation.dual());
-      const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
-      for (unsigned int i = 0; i < multiplier_nodes.size(); ++i)
-        {
-          const auto dof =
-            dof_of_vertex[contact_boundary.node(multiplier_nodes[i]).vertex];
-          pressure[dof] = -lambda[i];
-          active[dof]   = computation.active_set()[i] ? 1. : 0.;
-        }
-      const Vector<double> pressures = contact_boundary.nodal_pressures(
-        computation.condition().nodal_forces(computation.dual()));
-      for (unsigned int k = 0; k < contact_boundary.n_nodes(); ++k)
-        if (dof_of_vertex.count(contact_boundary.node(k).vertex) > 0)
-          nodal_pressure[dof_of_vertex[contact_boundary.node(k).vertex]] =
-            pressures[k];
-    }
+    const ContactNodeFields<dim> contact_fields(computation,
+                                                scalar_dof_handler);
 
     const StressPostprocessor<dim> stress(computation.material());
     NamedDataOut<dim>              data_out; // (the cells this rank owns)
@@ -862,57 +1069,7 @@ namespace Signorini
                              std::vector<std::string>(dim, "displacement"),
                              vector_part);
     data_out.add_data_vector(dof_handler, ghosted, stress);
-    data_out.add_data_vector(scalar_dof_handler, pressure, "contact_pressure");
-    data_out.add_data_vector(scalar_dof_handler,
-                             nodal_pressure,
-                             "nodal_pressure");
-    data_out.add_data_vector(scalar_dof_handler, active, "contact_active");
-    // with friction: the tangential force and the slip of each node of GC
-    // (P1 vector fields vanishing away from it) and its status (0
-    // separated, 1 stick, 2 slip)
-    Vector<double> friction_status, tangential_force, slip, accumulated_slip;
-    if (computation.friction_law().enabled())
-      {
-        const FrictionState<dim>   &friction = computation.friction();
-        const ContactBoundary<dim> &contact_boundary =
-          computation.contact_boundary();
-        friction_status.reinit(scalar_dof_handler.n_dofs());
-        tangential_force.reinit(dof_handler.n_dofs());
-        slip.reinit(dof_handler.n_dofs());
-        accumulated_slip.reinit(dof_handler.n_dofs());
-        const auto &multiplier_nodes = contact_boundary.multiplier_nodes();
-        for (unsigned int i = 0; i < friction.status.size(); ++i)
-          {
-            const auto &node = contact_boundary.node(multiplier_nodes[i]);
-            friction_status[dof_of_vertex[node.vertex]] =
-              static_cast<double>(friction.status[i]);
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                tangential_force[node.dofs[d]] =
-                  friction.nodal_force[multiplier_nodes[i]][d];
-                slip[node.dofs[d]] = friction.slip[i][d];
-                accumulated_slip[node.dofs[d]] =
-                  friction.accumulated_slip[i][d];
-              }
-          }
-        data_out.add_data_vector(scalar_dof_handler,
-                                 friction_status,
-                                 "friction_status");
-        data_out.add_data_vector(dof_handler,
-                                 tangential_force,
-                                 std::vector<std::string>(dim,
-                                                          "tangential_force"),
-                                 vector_part);
-        data_out.add_data_vector(dof_handler,
-                                 slip,
-                                 std::vector<std::string>(dim, "slip"),
-                                 vector_part);
-        data_out.add_data_vector(dof_handler,
-                                 accumulated_slip,
-                                 std::vector<std::string>(dim,
-                                                          "accumulated_slip"),
-                                 vector_part);
-      }
+    contact_fields.add_to(data_out, dof_handler, scalar_dof_handler);
     std::unique_ptr<CellDataPostprocessor<dim>> eps_E_field;
     if (eps_E != nullptr)
       {
@@ -942,110 +1099,16 @@ namespace Signorini
             data_out.add_data_vector(dof_handler, ghosted, *effectivity_field);
           }
       }
-    // DataOut holds the patches of every cell it writes at once (about 0.9
-    // kB per tetrahedron with these fields: 0.6 GB at 590k tetrahedra, more
-    // than the low-memory solve; doc/benchmarks.md): a rank with more than
-    // `Cells per file` cells writes them in pieces of at most that many, one
-    // at a time, each a .vtu file listed in a .pvtu record
-    using cell_iterator = typename Triangulation<dim>::cell_iterator;
-    const Triangulation<dim> &triangulation = dof_handler.get_triangulation();
-    const auto                range = triangulation.active_cell_iterators();
-    const std::size_t         n_owned =
-      std::count_if(range.begin(), range.end(), [](const auto &cell) {
-        return cell->is_locally_owned();
-      });
-    const unsigned int n_local_pieces =
-      std::max<std::size_t>(1, (n_owned + cells_per_file - 1) / cells_per_file);
-    const std::vector<unsigned int> pieces_of_rank =
-      Utilities::MPI::all_gather(mpi_communicator, n_local_pieces);
-    const unsigned int rank =
-      Utilities::MPI::this_mpi_process(mpi_communicator);
-    const unsigned int first_piece =
-      std::accumulate(pieces_of_rank.begin(),
-                      pieces_of_rank.begin() + rank,
-                      0u);
-    const unsigned int n_pieces =
-      std::accumulate(pieces_of_rank.begin(), pieces_of_rank.end(), 0u);
-    // piece p: the owned cells n_owned p / n_local_pieces and on, in
-    // DataOut's order, up to the first of the next piece (or the end)
-    std::vector<cell_iterator> piece_start;
-    unsigned int               piece = 0;
-    if (n_local_pieces > 1)
-      {
-        std::size_t k = 0;
-        for (const auto &cell : range)
-          if (cell->is_locally_owned())
-            {
-              if (k == n_owned * piece_start.size() / n_local_pieces)
-                piece_start.push_back(cell);
-              ++k;
-            }
-        piece_start.push_back(triangulation.end());
-        data_out.set_cell_selection(
-          [&](const Triangulation<dim> &) { return piece_start[piece]; },
-          [&](const Triangulation<dim> &tria,
-              const cell_iterator      &cell) -> cell_iterator {
-            typename Triangulation<dim>::active_cell_iterator next = cell;
-            do
-              ++next;
-            while (next != tria.end() && !next->is_locally_owned());
-            return next == piece_start[piece + 1] ? tria.end() : next;
-          });
-      }
-    const auto build_piece = [&](const unsigned int p) {
-      piece = p;
-      data_out.build_patches(computation.mapping());
-    };
-
-    // every piece checked before any is written
-    SinglePrecisionOverflow overflow;
-    for (unsigned int p = 0; p < n_local_pieces; ++p)
-      {
-        build_piece(p);
-        scan_single_precision(data_out, overflow);
-      }
-    refuse_beyond_single_precision(what,
-                                   overflow,
-                                   data_out.get_dataset_names(),
-                                   mpi_communicator);
-    refuse_below_single_precision(what, computation);
-    // zlib's fastest level: deal.II's default, its best, takes 3 times as
-    // long for files about 10 % smaller (bench/small_runs)
-    DataOutBase::VtkFlags vtk_flags;
-    vtk_flags.compression_level = DataOutBase::VtkFlags::best_speed;
-    data_out.set_flags(vtk_flags);
-    // one file for one piece; else base.PPP.vtu, the pieces numbered rank
-    // by rank, and a .pvtu record
-    if (n_pieces == 1)
-      {
-        const std::string name = base + ".vtu";
-        output_files.write(name,
-                           [&](std::ostream &out) { data_out.write_vtu(out); });
-        return name;
-      }
-    std::vector<std::string> pieces;
-    for (unsigned int p = 0; p < n_pieces; ++p)
-      pieces.push_back(base + "." + Utilities::int_to_string(p, 3) + ".vtu");
-    // rank 0 lists every piece before any is written, so that a run
-    // stopped in between leaves no unlisted file
-    if (root)
-      for (const auto &file : pieces)
-        output_files.record(file);
-    MPI_Barrier(mpi_communicator);
-    for (unsigned int p = 0; p < n_local_pieces; ++p)
-      {
-        if (n_local_pieces > 1)
-          build_piece(p);
-        output_files.write(pieces[first_piece + p],
-                           [&](std::ostream &out) { data_out.write_vtu(out); });
-      }
-    const std::string name = base + ".pvtu";
-    if (root)
-      output_files.write(name, [&](std::ostream &out) {
-        data_out.write_pvtu_record(out, pieces);
-      });
-    return name;
+    return write_in_pieces(base,
+                           what,
+                           computation,
+                           data_out,
+                           cells_per_file,
+                           output_files,
+                           mpi_communicator);
   }
+
+
 
   template class ResultsOutput<2>;
   template class ResultsOutput<3>;
