@@ -427,6 +427,63 @@ namespace Signorini
       admissible.compress(VectorOperation::insert);
       return n_changed;
     }
+
+
+
+    /**
+     * The warning that the contact term of e uses the gap interpolated
+     * between the nodes of GC, if g differs from it by @p gap_deviation
+     * (the largest over the ranks) beyond round-off.
+     */
+    template <int dim>
+    void
+    warn_if_gap_not_linear(const ContactBoundary<dim> &boundary,
+                           const double                gap_deviation,
+                           const MPI_Comm              communicator)
+    {
+      if (boundary.n_nodes() == 0 ||
+          !(gap_deviation >
+            1e-10 * (boundary.size() + boundary.nodal_gap().linfty_norm())))
+        return;
+      std::ostringstream text;
+      text.precision(3);
+      text << "Contact/Gap is not linear along the faces of GC: it differs "
+              "from its interpolation between the nodes by up to "
+           << gap_deviation
+           << "; the error estimate is that of the foundation so "
+              "interpolated (doc/estimator.md, \"The guaranteed bound\")";
+      warn_once("gap not linear", text.str(), communicator);
+    }
+
+
+
+    /**
+     * The denominator of eps that the round-off of the strains of @p u_h
+     * alone would give: the volume times E times the square of a machine
+     * epsilon times max |u_h| / h_min, the round-off of a strain.
+     */
+    template <int dim>
+    double
+    denominator_of_round_off(const DoFHandler<dim>            &dof_handler,
+                             const LinearElasticMaterial<dim> &material,
+                             const LA::Vector                 &u_h)
+    {
+      const MPI_Comm communicator =
+        dof_handler.get_triangulation().get_communicator();
+      double h_min = std::numeric_limits<double>::max(), volume = 0.;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            h_min = std::min(h_min, cell->minimum_vertex_distance());
+            volume += cell->measure();
+          }
+      h_min  = Utilities::MPI::min(h_min, communicator);
+      volume = Utilities::MPI::sum(volume, communicator);
+      const double round_off_strain =
+        std::numeric_limits<double>::epsilon() * u_h.linfty_norm() / h_min;
+      return volume * std::abs(material.young_modulus) * round_off_strain *
+             round_off_strain;
+    }
   } // namespace
 
 
@@ -597,21 +654,10 @@ namespace Signorini
         terms.contact_term = 0.;
       return terms;
     };
-    Terms terms   = terms_for(admissible_displacement);
-    gap_deviation = Utilities::MPI::max(gap_deviation, communicator);
-    if (boundary.n_nodes() > 0 &&
-        gap_deviation >
-          1e-10 * (boundary.size() + boundary.nodal_gap().linfty_norm()))
-      {
-        std::ostringstream text;
-        text.precision(3);
-        text << "Contact/Gap is not linear along the faces of GC: it differs "
-                "from its interpolation between the nodes by up to "
-             << gap_deviation
-             << "; the error estimate is that of the foundation so "
-                "interpolated (doc/estimator.md, \"The guaranteed bound\")";
-        warn_once("gap not linear", text.str(), communicator);
-      }
+    Terms terms = terms_for(admissible_displacement);
+    warn_if_gap_not_linear(boundary,
+                           Utilities::MPI::max(gap_deviation, communicator),
+                           communicator);
 
     // with friction, a second U^ with less slip where it lowers e^2 for
     // this sigma^ (lower_friction_term()), if by at least 1 %: the sharper
@@ -661,27 +707,14 @@ namespace Signorini
     result.local.reinit(error_squared.size());
     // no stress and no contact work (no load, or a rigid motion imposed by
     // the Dirichlet data): the admissible fields are exact, eps = 0, not
-    // 0 / 0 or the ratio of two round-off errors. The round-off of the
-    // strains is about a machine epsilon times max |u_h| / h_min: D of
-    // strains below 100 of them is round-off (a translation imposed on the
-    // 3D block reaches tens); below 1e5 of them eps is polluted by it (the
-    // block translated by (1, 1), no contact: 7 % at 24 round-offs, 0.8 %
-    // at 80, 0.06 % at 240). An iterative solve leaves its own tolerance
-    // instead, which this floor does not see.
-    double h_min = std::numeric_limits<double>::max(), volume = 0.;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          h_min = std::min(h_min, cell->minimum_vertex_distance());
-          volume += cell->measure();
-        }
-    h_min  = Utilities::MPI::min(h_min, communicator);
-    volume = Utilities::MPI::sum(volume, communicator);
-    const double round_off_strain =
-      std::numeric_limits<double>::epsilon() * u_h.linfty_norm() / h_min;
-    const double round_off_denominator = volume *
-                                         std::abs(material.young_modulus) *
-                                         round_off_strain * round_off_strain;
+    // 0 / 0 or the ratio of two round-off errors. D of strains below 100
+    // round-offs is round-off (a translation imposed on the 3D block
+    // reaches tens); below 1e5 of them eps is polluted by it (the block
+    // translated by (1, 1), no contact: 7 % at 24 round-offs, 0.8 % at 80,
+    // 0.06 % at 240). An iterative solve leaves its own tolerance instead,
+    // which this floor does not see.
+    const double round_off_denominator =
+      denominator_of_round_off(dof_handler, material, u_h);
     result.stress_free = !(result.denominator > 1e4 * round_off_denominator);
     result.polluted_by_round_off =
       !(result.denominator > 1e10 * round_off_denominator);
