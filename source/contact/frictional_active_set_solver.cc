@@ -357,6 +357,97 @@ namespace Signorini
         }
       return bounds;
     }
+
+
+
+    /**
+     * From @p all_forces, the forces on the body at @p u (K u = F + f:
+     * f = -(F - K u)), for every tangential component of the rows
+     * @p rubbing: their tangential multipliers @p multiplier and weighted
+     * slips @p weighted_slip from @p origin, and in @p state the nodal
+     * forces, the displacements of the nodes and the slips. Returns the
+     * largest tangential force on a node of GC.
+     */
+    template <int dim>
+    double
+    tangential_fields(const FrictionRows<dim>           &rows,
+                      const std::vector<bool>           &rubbing,
+                      const LA::Vector                  &all_forces,
+                      const LA::Vector                  &u,
+                      const std::vector<Tensor<1, dim>> &origin,
+                      FrictionState<dim>                &state,
+                      std::vector<Tensor<1, dim>>       &multiplier,
+                      std::vector<Tensor<1, dim>>       &weighted_slip)
+    {
+      const unsigned int           m         = rows.row_node.size();
+      const unsigned int           n_nodes   = rows.n_nodes();
+      const auto                  &sliding   = rows.sliding;
+      const ContactCondition<dim> &condition = *rows.condition;
+      const Vector<double> residual     = gather(all_forces, rows.node_dofs);
+      const Vector<double> displacement = gather(u, rows.node_dofs);
+      double               largest      = 0.;
+      for (unsigned int c = 0; c < dim; ++c)
+        if (c != rows.c_star)
+          {
+            std::vector<bool> in_contact(m);
+            for (unsigned int i = 0; i < m; ++i)
+              in_contact[i] = rubbing[i] && sliding[i][c];
+            Vector<double> force_c(n_nodes), slip_c(n_nodes);
+            for (unsigned int k = 0; k < n_nodes; ++k)
+              {
+                force_c[k] = -residual[dim * k + c];
+                slip_c[k]  = displacement[dim * k + c] - origin[k][c];
+                state.displacement[k][c] = displacement[dim * k + c];
+                largest = std::max(largest, std::abs(force_c[k]));
+              }
+            const Vector<double> lambda_c =
+              condition.dual_from_residual(in_contact, force_c);
+            const Vector<double> nodal_c = condition.nodal_forces(lambda_c);
+            const Vector<double> w_c     = condition.constraint_values(slip_c);
+            for (unsigned int k = 0; k < n_nodes; ++k)
+              state.nodal_force[k][c] = -nodal_c[k];
+            for (unsigned int i = 0; i < m; ++i)
+              if (sliding[i][c])
+                {
+                  multiplier[i][c]    = lambda_c[i];
+                  weighted_slip[i][c] = w_c[i];
+                  state.slip[i][c]    = slip_c[rows.row_node[i]];
+                }
+          }
+      return largest;
+    }
+
+
+
+    /**
+     * The relative KKT residual of the solution @p u, @p y, @p state: the
+     * normal conditions as ActiveSetSolver's, and the friction cone
+     * (relative to the forces of the problem too: Tresca acts without
+     * contact, where y = 0).
+     */
+    template <int dim>
+    double
+    kkt_residual(const DiscreteContactProblem<dim> &problem,
+                 const LA::Vector                  &u,
+                 const Vector<double>              &y,
+                 const FrictionState<dim>          &state)
+    {
+      const Vector<double> slack = problem.slack(u);
+      const double scale_primal = std::max(problem.constraint_scale(u), 1e-300);
+      const double scale_dual   = std::max(max_norm(y), 1e-300);
+      double       scale_force  = std::max(scale_dual, problem.force_scale());
+      for (unsigned int i = 0; i < y.size(); ++i)
+        scale_force = std::max(scale_force, state.bound[i]);
+      double residual = 0.;
+      for (unsigned int i = 0; i < y.size(); ++i)
+        residual =
+          std::max({residual,
+                    -slack[i] / scale_primal,
+                    -y[i] / scale_dual,
+                    std::abs(y[i] * slack[i]) / (scale_dual * scale_primal),
+                    (state.force[i].norm() - state.bound[i]) / scale_force});
+      return residual;
+    }
   } // namespace
 
 
@@ -366,6 +457,25 @@ namespace Signorini
   FrictionState<dim>::count(const Status s) const
   {
     return std::count(status.begin(), status.end(), s);
+  }
+
+
+
+  template <int dim>
+  void
+  FrictionState<dim>::reset(const unsigned int                 n_rows,
+                            const std::vector<Tensor<1, dim>> &origin)
+  {
+    const std::size_t n_nodes = origin.size();
+    status.assign(n_rows, Status::separated);
+    force.assign(n_rows, Tensor<1, dim>());
+    slip.assign(n_rows, Tensor<1, dim>());
+    weighted_slip.assign(n_rows, Tensor<1, dim>());
+    accumulated_slip.assign(n_rows, Tensor<1, dim>());
+    bound.assign(n_rows, 0.);
+    displacement.assign(n_nodes, Tensor<1, dim>());
+    nodal_force.assign(n_nodes, Tensor<1, dim>());
+    this->origin = origin;
   }
 
 
@@ -742,13 +852,10 @@ namespace Signorini
     FrictionSets<dim>                 &sets,
     const FrictionGuess<dim>          *guess) const
   {
-    using Status                        = typename FrictionState<dim>::Status;
-    const unsigned int        m         = problem.n_constraints();
-    const FrictionRows<dim>   rows      = describe_rows(problem);
-    const unsigned int        c_star    = rows.c_star;
-    const unsigned int        n_nodes   = rows.n_nodes();
-    const auto               &sliding   = rows.sliding;
-    const auto               &condition = problem.condition();
+    using Status                      = typename FrictionState<dim>::Status;
+    const unsigned int        m       = problem.n_constraints();
+    const FrictionRows<dim>   rows    = describe_rows(problem);
+    const unsigned int        n_nodes = rows.n_nodes();
     const std::vector<double> tresca_bound =
       (law.type() == FrictionLaw<dim>::Type::tresca) ?
         tresca_bounds(law, rows) :
@@ -812,15 +919,7 @@ namespace Signorini
         AssertDimension(previous->displacement.size(), n_nodes);
         origin = previous->displacement;
       }
-    state.status.assign(m, Status::separated);
-    state.force.assign(m, Tensor<1, dim>());
-    state.slip.assign(m, Tensor<1, dim>());
-    state.weighted_slip.assign(m, Tensor<1, dim>());
-    state.accumulated_slip.assign(m, Tensor<1, dim>());
-    state.bound.assign(m, 0.);
-    state.displacement.assign(n_nodes, Tensor<1, dim>());
-    state.nodal_force.assign(n_nodes, Tensor<1, dim>());
-    state.origin = origin;
+    state.reset(m, origin);
     // the sets the preconditioner was last built for
     std::vector<bool> preconditioned_active(m, false),
       preconditioned_stick(m, false);
@@ -883,46 +982,23 @@ namespace Signorini
         ++report.iterations;
         y = problem.dual_from_residual(active, u);
 
-        // the tangential multipliers of the rows in contact from the forces
-        // on the body (K u = F + f: f = -(F - K u)), their nodal forces,
-        // and the weighted slips of all rows
         // (and the largest force on any dof, the reactions of the Dirichlet
         // data included: the scale of a problem driven by them)
-        const LA::Vector     all_forces   = problem.residual(u);
-        const double         reaction     = all_forces.linfty_norm();
-        const Vector<double> residual     = gather(all_forces, rows.node_dofs);
-        const Vector<double> displacement = gather(u, rows.node_dofs);
+        const LA::Vector            all_forces = problem.residual(u);
+        const double                reaction   = all_forces.linfty_norm();
         std::vector<Tensor<1, dim>> multiplier(m), weighted_slip(m);
         // (the force of a free tangential dof is round-off, not friction)
-        double tol_force = std::max({max_norm(y), load_scale, reaction});
-        for (unsigned int c = 0; c < dim; ++c)
-          if (c != c_star)
-            {
-              std::vector<bool> in_contact(m);
-              for (unsigned int i = 0; i < m; ++i)
-                in_contact[i] = rubbing[i] && sliding[i][c];
-              Vector<double> force_c(n_nodes), slip_c(n_nodes);
-              for (unsigned int k = 0; k < n_nodes; ++k)
-                {
-                  force_c[k] = -residual[dim * k + c];
-                  slip_c[k]  = displacement[dim * k + c] - origin[k][c];
-                  state.displacement[k][c] = displacement[dim * k + c];
-                  tol_force = std::max(tol_force, std::abs(force_c[k]));
-                }
-              const Vector<double> lambda_c =
-                condition.dual_from_residual(in_contact, force_c);
-              const Vector<double> nodal_c = condition.nodal_forces(lambda_c);
-              const Vector<double> w_c = condition.constraint_values(slip_c);
-              for (unsigned int k = 0; k < n_nodes; ++k)
-                state.nodal_force[k][c] = -nodal_c[k];
-              for (unsigned int i = 0; i < m; ++i)
-                if (sliding[i][c])
-                  {
-                    multiplier[i][c]    = lambda_c[i];
-                    weighted_slip[i][c] = w_c[i];
-                    state.slip[i][c]    = slip_c[rows.row_node[i]];
-                  }
-            }
+        double tol_force = std::max({max_norm(y),
+                                     load_scale,
+                                     reaction,
+                                     tangential_fields(rows,
+                                                       rubbing,
+                                                       all_forces,
+                                                       u,
+                                                       origin,
+                                                       state,
+                                                       multiplier,
+                                                       weighted_slip)});
         tol_force *= 1e-9;
         const Vector<double> slack     = problem.slack(u);
         const double         tol_slack = 1e-9 * problem.constraint_scale(u);
@@ -1027,23 +1103,7 @@ namespace Signorini
 
     sets = {active, stick, slip_force, spring, origin, cycled};
 
-    // the relative KKT residual: the normal conditions as
-    // ActiveSetSolver's, and the friction cone
-    const Vector<double> slack = problem.slack(u);
-    const double scale_primal  = std::max(problem.constraint_scale(u), 1e-300);
-    const double scale_dual    = std::max(max_norm(y), 1e-300);
-    // (the cone relative to the forces of the problem too: Tresca acts
-    // without contact, where y = 0)
-    double scale_force = std::max(scale_dual, load_scale);
-    for (unsigned int i = 0; i < m; ++i)
-      scale_force = std::max(scale_force, state.bound[i]);
-    for (unsigned int i = 0; i < m; ++i)
-      report.residual =
-        std::max({report.residual,
-                  -slack[i] / scale_primal,
-                  -y[i] / scale_dual,
-                  std::abs(y[i] * slack[i]) / (scale_dual * scale_primal),
-                  (state.force[i].norm() - state.bound[i]) / scale_force});
+    report.residual = kkt_residual(problem, u, y, state);
     return report;
   }
 

@@ -63,6 +63,11 @@ namespace Signorini
     unsigned int
     count(const Status s) const;
 
+    /// Every one of the @p n_rows rows separated, without force or slip, and
+    /// the nodes of GC at rest where they slide from, @p origin.
+    void
+    reset(const unsigned int n_rows, const std::vector<Tensor<1, dim>> &origin);
+
     /// sum_k nodal_force_k
     Tensor<1, dim>
     total_force() const;
