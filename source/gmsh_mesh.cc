@@ -480,6 +480,26 @@ namespace Signorini
                          "overflows): change the units or the origin";
               fail(message.str());
             }
+      // far from the origin for its size, the coordinates are resolved to
+      // a fraction of the mesh (a unit square 1e15 from the origin: to 0.125,
+      // its nodes moved by up to a third of its cells)
+      double farthest = 0.;
+      for (unsigned int d = 0; d < 3; ++d)
+        farthest = std::max({farthest, std::abs(low[d]), std::abs(high[d])});
+      const double resolution =
+        farthest * std::numeric_limits<double>::epsilon();
+      if (resolution > 1e-5 * diameter)
+        {
+          std::ostringstream message;
+          message.precision(3);
+          message << "the mesh is " << diameter << " across but reaches "
+                  << farthest
+                  << " from the origin: its coordinates are resolved only to "
+                  << resolution
+                  << " (double precision), which moves its nodes; move the "
+                     "origin into or near the mesh";
+          fail(message.str());
+        }
       if (dim == 2)
         for (const unsigned int n : node_of_vertex)
           if (std::abs(x(n)[2] - x(first)[2]) > distance_tolerance * diameter)

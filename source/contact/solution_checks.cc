@@ -102,22 +102,35 @@ namespace Signorini
           imposed_scale = std::max(imposed_scale, force);
           imposed_sum += force;
         }
-    // the moment about the origin in each coordinate plane (a, b): one in
-    // 2D (the plane (x, y)), three in 3D (the components of x cross f)
+    // the bounding box of the nodes
+    const MPI_Comm comm  = u.get_mpi_communicator();
+    Point<dim>     lower = support_points[0], upper = support_points[0];
+    for (const auto i : u.locally_owned_elements())
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower[d] = std::min(lower[d], support_points[i][d]);
+          upper[d] = std::max(upper[d], support_points[i][d]);
+        }
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        lower[d] = Utilities::MPI::min(lower[d], comm);
+        upper[d] = Utilities::MPI::max(upper[d], comm);
+      }
+    const double     diameter = (upper - lower).norm();
+    const Point<dim> center   = 0.5 * (lower + upper);
+    // the moment about the centre of the box in each coordinate plane
+    // (a, b): one in 2D (the plane (x, y)), three in 3D (the components of
+    // (x - center) cross f); about the origin, the round-off of x cross f
+    // grows with the distance of the body from it (a mesh shifted by 1e10
+    // its size failed the check at 1e-6)
     static constexpr unsigned int n_planes     = dim * (dim - 1) / 2;
     static constexpr unsigned int planes[3][2] = {{0, 1}, {1, 2}, {0, 2}};
     Tensor<1, dim>                force;
     std::array<double, n_planes>  moment{};
-    Point<dim> lower = support_points[0], upper = support_points[0];
     for (const auto i : u.locally_owned_elements())
       {
-        const Point<dim> &x = support_points[i];
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            lower[d] = std::min(lower[d], x[d]);
-            upper[d] = std::max(upper[d], x[d]);
-          }
-        double f = applied[i];
+        const Tensor<1, dim> x = support_points[i] - center;
+        double               f = applied[i];
         // (the forces one by one: a load and a contact force or reaction
         // that cancel at a dof still count)
         load_sum += std::abs(load[i]) + std::abs(contact_forces[i]);
@@ -140,24 +153,17 @@ namespace Signorini
           }
       }
     // (each rank summed over the dofs it owns)
-    const MPI_Comm comm = u.get_mpi_communicator();
-    applied_scale       = Utilities::MPI::max(applied_scale, comm);
-    imposed_scale       = Utilities::MPI::max(imposed_scale, comm);
-    imposed_sum         = Utilities::MPI::sum(imposed_sum, comm);
-    checks.residual     = Utilities::MPI::max(checks.residual, comm);
-    load_sum            = Utilities::MPI::sum(load_sum, comm);
-    force               = Utilities::MPI::sum(force, comm);
+    applied_scale   = Utilities::MPI::max(applied_scale, comm);
+    imposed_scale   = Utilities::MPI::max(imposed_scale, comm);
+    imposed_sum     = Utilities::MPI::sum(imposed_sum, comm);
+    checks.residual = Utilities::MPI::max(checks.residual, comm);
+    load_sum        = Utilities::MPI::sum(load_sum, comm);
+    force           = Utilities::MPI::sum(force, comm);
     for (double &m : moment)
       m = Utilities::MPI::sum(m, comm);
-    for (unsigned int d = 0; d < dim; ++d)
-      {
-        lower[d] = Utilities::MPI::min(lower[d], comm);
-        upper[d] = Utilities::MPI::max(upper[d], comm);
-      }
     checks.force_scale = std::max(applied_scale, imposed_scale);
     checks.residual /=
       std::max(checks.force_scale, std::numeric_limits<double>::min());
-    const double diameter = (upper - lower).norm();
     // the largest term, NaN if any is NaN
     double     largest = 0.;
     const auto include = [&largest](const double value) {
