@@ -245,6 +245,39 @@ namespace Signorini
 
   template <int dim>
   void
+  ContactComputation<dim>::check_gap_scale() const
+  {
+    // a gap G_k < 0 moves the body by at least -G_k (a positive one, however
+    // large, only keeps the foundation away)
+    double penetration = 0.;
+    for (const double g : gamma_c.nodal_gap())
+      penetration = std::max(penetration, -g);
+    if (penetration == 0.)
+      return;
+    const double log_displacement = std::log10(penetration);
+    const double log_stress = std::log10(std::abs(material_law.young_modulus)) +
+                              log_displacement - std::log10(mesh_diameter);
+    const double limit = 140.;
+    if (log_displacement < limit && log_stress < limit)
+      return;
+    std::ostringstream message;
+    message << std::setprecision(2) << "Contact/Gap: its value " << -penetration
+            << " on GC moves the body by as much, giving "
+            << (log_displacement < limit ? "stresses" : "displacements")
+            << " of order 1e"
+            << std::lround(std::max(log_displacement, log_stress))
+            << " (Young modulus " << material_law.young_modulus << ", diameter "
+            << mesh_diameter
+            << "), beyond what double precision resolves in their squares: "
+               "choose units (of length, and of stress) that bring both "
+               "below 1e140";
+    throw InputError(message.str());
+  }
+
+
+
+  template <int dim>
+  void
   ContactComputation<dim>::setup(const Triangulation<dim> &mesh,
                                  const Function<dim>      *exact_solution)
   {
@@ -288,6 +321,7 @@ namespace Signorini
                    dirichlet_constraints,
                    hanging_node_constraints);
     contact_condition->reinit(gamma_c);
+    check_gap_scale();
     // (at the end of the path, which a path of several steps names)
     try
       {

@@ -331,6 +331,12 @@ namespace Signorini
     check_data_scale(
       const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
 
+    /// Throw an InputError when a negative Contact/Gap imposes
+    /// displacements, or the stresses they cause, beyond what the range of
+    /// doubles holds in their squares (as check_data_scale()).
+    void
+    check_gap_scale() const;
+
     PhaseTimer &timer;
     MPI_Comm    mpi_communicator;
 
