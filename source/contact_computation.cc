@@ -52,13 +52,15 @@ namespace Signorini
                       "active set of the previous (coarser) cycle.");
     prm.declare_entry("Check tolerance",
                       "1e-6",
-                      Patterns::Double(1e-12, 1.),
+                      Patterns::Double(1e-12, 1e-2),
                       "A computation whose relative solution checks "
                       "(feasibility, multiplier sign, complementarity, "
                       "residual, resultant) exceed this has failed (exit code "
                       "2), whatever its solver reports (at least 1e-12: the "
                       "checks of an exact solve are round-off; with friction "
-                      "at least 1e-10).");
+                      "at least 1e-10; at most 1e-2: beyond, a body that "
+                      "penetrates the foundation by a percent of its "
+                      "displacements would pass).");
     prm.declare_entry("Nested start",
                       "true",
                       Patterns::Bool(),
@@ -237,6 +239,24 @@ namespace Signorini
                 << "), beyond what double precision resolves in their "
                    "squares: choose units (of stress, and of length) that "
                    "bring both within 1e-140 to 1e140";
+        throw InputError(message.str());
+      }
+    // Coulomb's bound mu |R_n| (and the friction term of e, mu |R_n| times
+    // a slip) likewise: mu = 1e300 on stresses of 1e9 gave eps = NaN
+    const double mu = friction_law_.type() == FrictionLaw<dim>::Type::coulomb ?
+                        friction_law_.coefficient() :
+                        0.;
+    if (mu > 0. && !(std::log10(mu) + log_stress < limit))
+      {
+        std::ostringstream message;
+        message << std::setprecision(2)
+                << "Contact/Friction coefficient = " << mu
+                << " times the stresses of the data, of order 1e"
+                << std::lround(log_stress)
+                << ", is beyond what double precision resolves in their "
+                   "squares; below 1e"
+                << std::lround(limit - log_stress)
+                << " (the bonded limit is reached long before)";
         throw InputError(message.str());
       }
   }
@@ -731,7 +751,13 @@ namespace Signorini
             if (load_step_observer)
               load_step_observer(step);
             if (!last_solve_converged)
-              break;
+              {
+                std::ostringstream where;
+                where << "at Contact/Load steps step " << step << " of "
+                      << n_steps << " (t = " << load_path_.time(step) << "): ";
+                solve_failure = where.str() + solve_failure;
+                break;
+              }
             previous = friction_state;
           }
         path.converged             = last_summary.report.converged;

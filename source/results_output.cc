@@ -785,7 +785,10 @@ namespace Signorini
     // (a load step that slides far under a small load: the friction term,
     // the slip of the step times its bound between the nodes, made eps 100 %
     // for an error of 12 %)
-    if (estimate.eps_contact > 0.9 && !estimate.stress_free)
+    // (not where e^2 is round-off of the denominator: its shares mean
+    // nothing)
+    if (estimate.eps_contact > 0.9 && !estimate.stress_free &&
+        estimate.eps > 1e-6)
       pcout << "Warning: the contact term is " << std::setprecision(3)
             << 100. * estimate.eps_contact
             << " % of e^2: eps measures mostly how far the admissible contact "
@@ -830,17 +833,24 @@ namespace Signorini
   template <int dim>
   void
   ResultsOutput<dim>::exact_error(
-    const typename ExactSolution<dim>::Error &error)
+    const typename ExactSolution<dim>::Error              &error,
+    const typename ConstitutiveRelationError<dim>::Result *estimate)
   {
     pcout << "   energy-norm error " << error.energy_error;
     statistics_table.add_value("energy_error", error.energy_error);
     // (undefined for a zero exact solution: left empty)
     if (error.relative_energy_error >= 0.)
       {
-        pcout << " (relative " << error.relative_energy_error << ")";
+        pcout << " (relative to the exact solution's norm "
+              << error.relative_energy_error << ")";
         statistics_table.add_value("relative_energy_error",
                                    error.relative_energy_error);
       }
+    // (eps divides e by a norm of both fields, about sqrt(2) times the
+    // solution's: the effectivity is the comparison that means something)
+    if (estimate != nullptr && error.energy_error > 0.)
+      pcout << ", effectivity e / error = "
+            << std::sqrt(estimate->e_squared) / error.energy_error;
     pcout << std::endl;
   }
 

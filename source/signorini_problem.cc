@@ -397,7 +397,8 @@ namespace Signorini
     if (!computation.converged())
       return;
     if (exact_solution.enabled())
-      results.exact_error(exact_solution.error(computation));
+      results.exact_error(exact_solution.error(computation),
+                          estimated ? &estimate : nullptr);
     if (!reference.enabled())
       return;
     const Vector<double> u_hat = estimator.enabled() ?

@@ -133,9 +133,12 @@ namespace Signorini
     size_prediction(const std::string               &predictor,
                     const SizePredictor::Prediction &prediction);
 
-    /// The error against the exact solution.
+    /// The error against the exact solution, and the effectivity of the
+    /// @p estimate if there is one.
     void
-    exact_error(const typename ExactSolution<dim>::Error &error);
+    exact_error(
+      const typename ExactSolution<dim>::Error              &error,
+      const typename ConstitutiveRelationError<dim>::Result *estimate);
 
     /// The computation against a reference of @p reference_dofs DoFs that
     /// may not be finer than its mesh everywhere (@p underestimated); keeps

@@ -6,6 +6,9 @@
 
 #include <signorini/contact/frank_wolfe_solver.h>
 
+#include <iomanip>
+#include <sstream>
+
 namespace Signorini
 {
   template <int dim>
@@ -354,7 +357,15 @@ namespace Signorini
           {
             const Vector<double> *column = dual.hessian_column(ray);
             if (column == nullptr)
-              break; // capped: report the residual reached
+              {
+                std::ostringstream text;
+                text << std::setprecision(3)
+                     << "stopped by Contact/Frank-Wolfe/Maximum columns = "
+                     << max_columns << " after " << report.iterations
+                     << " iterations: KKT residual " << report.residual;
+                report.failure = text.str();
+                break;
+              }
             const double t = -g[ray] / (*column)[ray];
             y[ray] += t;
             g.add(t, *column);
@@ -381,6 +392,15 @@ namespace Signorini
             y *= (1. - t);
             g.sadd(1. - t, -t, dual.linear_term());
           }
+      }
+
+    if (!report.converged && report.failure.empty())
+      {
+        std::ostringstream text;
+        text << std::setprecision(3)
+             << "stopped by Contact/Frank-Wolfe/Maximum iterations = "
+             << max_iterations << ": KKT residual " << report.residual;
+        report.failure = text.str();
       }
 
     // Displacement of the final multipliers, plus the rigid motion -mu

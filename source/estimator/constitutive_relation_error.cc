@@ -120,7 +120,10 @@ namespace Signorini
         {
           const Tensor<1, dim> w_t =
             w - w_n * boundary.direction() - point.origin;
-          term += point.bound * w_t.norm() + point.tangential_reaction * w_t;
+          // (where nothing slides the term is zero whatever the bound: s =
+          // mu |R^_n| overflows for a huge mu, and inf times 0 is NaN)
+          if (w_t.norm() > 0.)
+            term += point.bound * w_t.norm() + point.tangential_reaction * w_t;
         }
       return term;
     }
@@ -153,6 +156,24 @@ namespace Signorini
       std::vector<Tensor<1, dim>>      w(face_quadrature.size());
       const bool        with_friction = !fields.tangential_reaction.empty();
       ContactPoint<dim> point;
+      // (with friction) the value of ghosted_u at each node of GC that a
+      // face of this rank's cells holds
+      std::map<unsigned int, Tensor<1, dim>> nodal_displacement;
+      if (with_friction)
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary() &&
+                  boundary.boundary_ids().count(cell->face(f)->boundary_id()) !=
+                    0)
+                for (const unsigned int i : cell->face(f)->vertex_indices())
+                  {
+                    const unsigned int k =
+                      boundary.node_index(cell->face(f)->vertex_index(i));
+                    for (unsigned int c = 0; c < dim; ++c)
+                      nodal_displacement[k][c] =
+                        ghosted_u[boundary.node(k).dofs[c]];
+                  }
       for (const auto &cell : dof_handler.active_cell_iterators())
         for (const unsigned int f : cell->face_indices())
           if (cell->is_locally_owned() && cell->face(f)->at_boundary() &&
@@ -205,6 +226,18 @@ namespace Signorini
                           point.bound += hat * fields.friction_bound[k];
                           point.origin += hat * (*origin)[k];
                         }
+                    }
+                  // with friction w from the same hats as the origin, so
+                  // that a node that does not slide has no slip, not the
+                  // difference of two interpolations: the friction term
+                  // multiplies it by s = mu |R^_n| (at mu = 1e18 that
+                  // round-off was half of e^2 on a load path)
+                  if (with_friction)
+                    {
+                      w[q] = Tensor<1, dim>();
+                      for (unsigned int j = 0; j < face_nodes.size(); ++j)
+                        w[q] += point.hats[j].second *
+                                nodal_displacement[face_nodes[j].first];
                     }
                   visit(cell->active_cell_index(), point, w[q]);
                 }
