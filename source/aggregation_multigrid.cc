@@ -187,27 +187,9 @@ namespace Signorini
     unsigned int block = dofs_per_vertex;
     while (true)
       {
-        Level                  &level  = levels.back();
-        const Epetra_CrsMatrix &A      = *level.matrix;
-        const int               n_rows = A.NumMyRows();
-        level.inverse_diagonal = std::make_unique<Epetra_Vector>(A.RowMap());
-        A.ExtractDiagonalCopy(*level.inverse_diagonal);
-        for (int r = 0; r < n_rows; ++r)
-          {
-            double &d = (*level.inverse_diagonal)[r];
-            d         = (d > 0. ? 1. / d : 1.);
-          }
-        // (the finest level's right-hand side and solution are the caller's)
-        level.residual = std::make_unique<Epetra_Vector>(A.RowMap());
-        if (data.smoother_degree > 1)
-          level.update = std::make_unique<Epetra_Vector>(A.RowMap());
-        if (levels.size() > 1)
-          for (auto *v : {&level.rhs, &level.solution})
-            *v = std::make_unique<Epetra_Vector>(A.RowMap());
-        if (levels.size() > 1 && data.w_cycle)
-          for (auto *v : {&level.second_rhs, &level.second_solution})
-            *v = std::make_unique<Epetra_Vector>(A.RowMap());
-        level.max_eigenvalue = estimate_max_eigenvalue(level);
+        Level                  &level = levels.back();
+        const Epetra_CrsMatrix &A     = *level.matrix;
+        allocate_work_vectors(level);
 
         // (the finest level is always coarsened: it is only smoothed, its
         // masked operator is not the matrix a direct solver would see)
@@ -216,221 +198,19 @@ namespace Signorini
              levels.size() == data.max_levels))
           break;
 
-        // the tentative prolongator: the near null space orthonormalised on
-        // each aggregate (modified Gram-Schmidt, twice); a direction it does
-        // not span there (few free dofs) gets a zero column
-        const auto [aggregate_of_vertex, n_aggregates] =
-          aggregate_vertices(A, masked_row, block);
-        const unsigned int n_null = null_space->NumVectors();
-        level.n_null              = n_null;
-        level.aggregate_of_row.assign(n_rows, -1);
-        level.prolongator.assign(std::size_t(n_rows) * n_null, 0.);
-        std::vector<std::vector<int>> rows_of(n_aggregates);
-        for (int r = 0; r < n_rows; ++r)
-          {
-            const int a = aggregate_of_vertex[r / block];
-            if (a >= 0 && (masked_row.empty() || !masked_row[r]))
-              {
-                level.aggregate_of_row[r] = a;
-                rows_of[a].push_back(r);
-              }
-          }
+        // the aggregates, the tentative prolongator and the coarse null
+        // space, then the Galerkin product P^T A P
+        const unsigned int            n_null = null_space->NumVectors();
+        std::vector<std::vector<int>> rows_of;
+        const int                     n_aggregates =
+          aggregate_rows(level, masked_row, block, n_null, rows_of);
         const Epetra_Map coarse_map(-1,
                                     n_aggregates * static_cast<int>(n_null),
                                     0,
                                     A.Comm());
         auto             coarse_null =
-          std::make_unique<Epetra_MultiVector>(coarse_map, n_null);
-        std::vector<double> q; // (the aggregate's columns, in double)
-        for (int a = 0; a < n_aggregates; ++a)
-          {
-            const auto       &rows = rows_of[a];
-            const std::size_t n    = rows.size();
-            q.assign(n * n_null, 0.);
-            for (unsigned int m = 0; m < n_null; ++m)
-              {
-                double norm0 = 0.;
-                for (std::size_t i = 0; i < n; ++i)
-                  {
-                    q[i * n_null + m] = (*null_space)[m][rows[i]];
-                    norm0 += q[i * n_null + m] * q[i * n_null + m];
-                  }
-                for (unsigned int pass = 0; pass < 2; ++pass)
-                  for (unsigned int k = 0; k < m; ++k)
-                    {
-                      double dot = 0.;
-                      for (std::size_t i = 0; i < n; ++i)
-                        dot += q[i * n_null + k] * q[i * n_null + m];
-                      for (std::size_t i = 0; i < n; ++i)
-                        q[i * n_null + m] -= dot * q[i * n_null + k];
-                      (*coarse_null)[m][a * n_null + k] += dot;
-                    }
-                double norm = 0.;
-                for (std::size_t i = 0; i < n; ++i)
-                  norm += q[i * n_null + m] * q[i * n_null + m];
-                norm               = std::sqrt(norm);
-                const bool spanned = norm > 1e-10 * std::sqrt(norm0);
-                for (std::size_t i = 0; i < n; ++i)
-                  q[i * n_null + m] = spanned ? q[i * n_null + m] / norm : 0.;
-                (*coarse_null)[m][a * n_null + m] = spanned ? norm : 0.;
-              }
-            for (std::size_t i = 0; i < n; ++i)
-              for (unsigned int m = 0; m < n_null; ++m)
-                level.prolongator[rows[i] * n_null + m] = q[i * n_null + m];
-          }
-
-        // the aggregate (global) and prolongator row of every column of A:
-        // the rank's own rows, and the other ranks' (imported)
-        const int        first_coarse = coarse_map.MinMyGID() / n_null;
-        std::vector<int> row_of_column(A.NumMyCols()),
-          ghost_of_column(A.NumMyCols(), -1);
-        std::vector<int> ghost_gids;
-        for (int c = 0; c < A.NumMyCols(); ++c)
-          {
-            row_of_column[c] = A.RowMap().LID(A.ColMap().GID(c));
-            if (row_of_column[c] < 0)
-              {
-                ghost_of_column[c] = ghost_gids.size();
-                ghost_gids.push_back(A.ColMap().GID(c));
-              }
-          }
-        int n_ghosts = ghost_gids.size(), max_ghosts = 0;
-        A.Comm().MaxAll(&n_ghosts, &max_ghosts, 1);
-        std::unique_ptr<Epetra_MultiVector> ghosts;
-        if (max_ghosts > 0)
-          {
-            Epetra_MultiVector by_row(A.RowMap(), n_null + 1);
-            for (int r = 0; r < n_rows; ++r)
-              {
-                const int a  = level.aggregate_of_row[r];
-                by_row[0][r] = a < 0 ? -1. : double(first_coarse + a);
-                for (unsigned int m = 0; m < n_null; ++m)
-                  by_row[m + 1][r] = level.prolongator[r * n_null + m];
-              }
-            const Epetra_Map ghost_map(
-              -1, n_ghosts, ghost_gids.data(), 0, A.Comm());
-            ghosts =
-              std::make_unique<Epetra_MultiVector>(ghost_map, n_null + 1);
-            ghosts->Import(by_row,
-                           Epetra_Import(ghost_map, A.RowMap()),
-                           Insert);
-          }
-        const auto aggregate_of_column = [&](const int c) {
-          if (const int r = row_of_column[c]; r >= 0)
-            return level.aggregate_of_row[r] < 0 ?
-                     -1 :
-                     first_coarse + level.aggregate_of_row[r];
-          return static_cast<int>((*ghosts)[0][ghost_of_column[c]]);
-        };
-        const auto prolongator_of_column = [&](const int c, const int l) {
-          if (const int r = row_of_column[c]; r >= 0)
-            return double(level.prolongator[r * n_null + l]);
-          return (*ghosts)[l + 1][ghost_of_column[c]];
-        };
-
-        // P^T A P, aggregate by aggregate: the n_null x n_null blocks of its
-        // rows with the aggregates its rows couple to; first their number
-        // (the matrix is then allocated once, at its size)
-        std::vector<int>    neighbour_aggregates;
-        std::vector<double> blocks; // n_null^2 per neighbour
-        const auto          find_neighbours = [&](const int a) {
-          neighbour_aggregates.clear();
-          for (const int r : rows_of[a])
-            {
-              int     n_entries;
-              double *entries;
-              int    *columns;
-              A.ExtractMyRowView(r, n_entries, entries, columns);
-              for (int e = 0; e < n_entries; ++e)
-                if (const int b = aggregate_of_column(columns[e]);
-                    b >= 0 && entries[e] != 0. &&
-                    std::find(neighbour_aggregates.begin(),
-                              neighbour_aggregates.end(),
-                              b) == neighbour_aggregates.end())
-                  neighbour_aggregates.push_back(b);
-            }
-          std::sort(neighbour_aggregates.begin(), neighbour_aggregates.end());
-        };
-        std::vector<int> row_lengths(std::size_t(n_aggregates) * n_null);
-        for (int a = 0; a < n_aggregates; ++a)
-          {
-            find_neighbours(a);
-            const int length =
-              std::max<int>(1, neighbour_aggregates.size() * n_null);
-            for (unsigned int k = 0; k < n_null; ++k)
-              row_lengths[a * n_null + k] = length;
-          }
-        auto coarse = std::make_unique<Epetra_CrsMatrix>(Copy,
-                                                         coarse_map,
-                                                         row_lengths.data(),
-                                                         /*static=*/true);
-        row_lengths = std::vector<int>();
-        std::vector<int>    indices;
-        std::vector<double> values;
-        for (int a = 0; a < n_aggregates; ++a)
-          {
-            find_neighbours(a);
-            blocks.assign(neighbour_aggregates.size() * n_null * n_null, 0.);
-            for (const int r : rows_of[a])
-              {
-                int     n_entries;
-                double *entries;
-                int    *columns;
-                A.ExtractMyRowView(r, n_entries, entries, columns);
-                const float *q_r = &level.prolongator[r * n_null];
-                for (int e = 0; e < n_entries; ++e)
-                  {
-                    const int c = columns[e];
-                    const int b = aggregate_of_column(c);
-                    if (b < 0 || entries[e] == 0.)
-                      continue;
-                    const std::size_t slot =
-                      std::lower_bound(neighbour_aggregates.begin(),
-                                       neighbour_aggregates.end(),
-                                       b) -
-                      neighbour_aggregates.begin();
-                    double *block_values = &blocks[slot * n_null * n_null];
-                    for (unsigned int l = 0; l < n_null; ++l)
-                      {
-                        const double a_q =
-                          entries[e] * prolongator_of_column(c, l);
-                        for (unsigned int k = 0; k < n_null; ++k)
-                          block_values[k * n_null + l] += q_r[k] * a_q;
-                      }
-                  }
-              }
-            const int self = first_coarse + a;
-            for (unsigned int k = 0; k < n_null; ++k)
-              {
-                indices.clear();
-                values.clear();
-                for (std::size_t s = 0; s < neighbour_aggregates.size(); ++s)
-                  for (unsigned int l = 0; l < n_null; ++l)
-                    {
-                      double value = blocks[(s * n_null + k) * n_null + l];
-                      // a direction the aggregate does not span: decoupled
-                      if (neighbour_aggregates[s] == self && k == l &&
-                          value == 0.)
-                        value = 1.;
-                      indices.push_back(neighbour_aggregates[s] * n_null + l);
-                      values.push_back(value);
-                    }
-                if (indices.empty()) // (an aggregate with no coupling at all)
-                  {
-                    indices.push_back(self * n_null + k);
-                    values.push_back(1.);
-                  }
-                const int error =
-                  coarse->InsertGlobalValues(self * n_null + k,
-                                             static_cast<int>(indices.size()),
-                                             values.data(),
-                                             indices.data());
-                AssertThrow(error >= 0,
-                            ExcMessage("coarse operator: insertion failed"));
-              }
-          }
-        coarse->FillComplete(coarse_map, coarse_map);
-        coarse->OptimizeStorage();
+          tentative_prolongator(level, *null_space, rows_of, coarse_map);
+        auto coarse = galerkin_product(level, rows_of, coarse_map);
 
         const int fine_rows   = A.NumGlobalRows();
         const int coarse_rows = coarse->NumGlobalRows();
@@ -450,6 +230,289 @@ namespace Signorini
         masked_row.clear(); // (the coarse levels mask nothing)
       }
 
+    factor_coarsest();
+  }
+
+
+
+  void
+  AggregationMultigrid::allocate_work_vectors(Level &level) const
+  {
+    const Epetra_CrsMatrix &A      = *level.matrix;
+    const int               n_rows = A.NumMyRows();
+    level.inverse_diagonal = std::make_unique<Epetra_Vector>(A.RowMap());
+    A.ExtractDiagonalCopy(*level.inverse_diagonal);
+    for (int r = 0; r < n_rows; ++r)
+      {
+        double &d = (*level.inverse_diagonal)[r];
+        d         = (d > 0. ? 1. / d : 1.);
+      }
+    // (the finest level's right-hand side and solution are the caller's)
+    level.residual = std::make_unique<Epetra_Vector>(A.RowMap());
+    if (data.smoother_degree > 1)
+      level.update = std::make_unique<Epetra_Vector>(A.RowMap());
+    if (levels.size() > 1)
+      for (auto *v : {&level.rhs, &level.solution})
+        *v = std::make_unique<Epetra_Vector>(A.RowMap());
+    if (levels.size() > 1 && data.w_cycle)
+      for (auto *v : {&level.second_rhs, &level.second_solution})
+        *v = std::make_unique<Epetra_Vector>(A.RowMap());
+    level.max_eigenvalue = estimate_max_eigenvalue(level);
+  }
+
+
+
+  int
+  AggregationMultigrid::aggregate_rows(
+    Level                         &level,
+    const std::vector<char>       &masked_row,
+    const unsigned int             block,
+    const unsigned int             n_null,
+    std::vector<std::vector<int>> &rows_of) const
+  {
+    const Epetra_CrsMatrix &A      = *level.matrix;
+    const int               n_rows = A.NumMyRows();
+    const auto [aggregate_of_vertex, n_aggregates] =
+      aggregate_vertices(A, masked_row, block);
+    level.n_null = n_null;
+    level.aggregate_of_row.assign(n_rows, -1);
+    level.prolongator.assign(std::size_t(n_rows) * n_null, 0.);
+    rows_of.assign(n_aggregates, {});
+    for (int r = 0; r < n_rows; ++r)
+      {
+        const int a = aggregate_of_vertex[r / block];
+        if (a >= 0 && (masked_row.empty() || !masked_row[r]))
+          {
+            level.aggregate_of_row[r] = a;
+            rows_of[a].push_back(r);
+          }
+      }
+    return n_aggregates;
+  }
+
+
+
+  std::unique_ptr<Epetra_MultiVector>
+  AggregationMultigrid::tentative_prolongator(
+    Level                               &level,
+    const Epetra_MultiVector            &null_space,
+    const std::vector<std::vector<int>> &rows_of,
+    const Epetra_Map                    &coarse_map) const
+  {
+    // the near null space orthonormalised on each aggregate (modified
+    // Gram-Schmidt, twice); a direction it does not span there (few free
+    // dofs) gets a zero column
+    const unsigned int n_null       = null_space.NumVectors();
+    const int          n_aggregates = rows_of.size();
+    auto coarse_null = std::make_unique<Epetra_MultiVector>(coarse_map, n_null);
+    std::vector<double> q; // (the aggregate's columns, in double)
+    for (int a = 0; a < n_aggregates; ++a)
+      {
+        const auto       &rows = rows_of[a];
+        const std::size_t n    = rows.size();
+        q.assign(n * n_null, 0.);
+        for (unsigned int m = 0; m < n_null; ++m)
+          {
+            double norm0 = 0.;
+            for (std::size_t i = 0; i < n; ++i)
+              {
+                q[i * n_null + m] = null_space[m][rows[i]];
+                norm0 += q[i * n_null + m] * q[i * n_null + m];
+              }
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              for (unsigned int k = 0; k < m; ++k)
+                {
+                  double dot = 0.;
+                  for (std::size_t i = 0; i < n; ++i)
+                    dot += q[i * n_null + k] * q[i * n_null + m];
+                  for (std::size_t i = 0; i < n; ++i)
+                    q[i * n_null + m] -= dot * q[i * n_null + k];
+                  (*coarse_null)[m][a * n_null + k] += dot;
+                }
+            double norm = 0.;
+            for (std::size_t i = 0; i < n; ++i)
+              norm += q[i * n_null + m] * q[i * n_null + m];
+            norm               = std::sqrt(norm);
+            const bool spanned = norm > 1e-10 * std::sqrt(norm0);
+            for (std::size_t i = 0; i < n; ++i)
+              q[i * n_null + m] = spanned ? q[i * n_null + m] / norm : 0.;
+            (*coarse_null)[m][a * n_null + m] = spanned ? norm : 0.;
+          }
+        for (std::size_t i = 0; i < n; ++i)
+          for (unsigned int m = 0; m < n_null; ++m)
+            level.prolongator[rows[i] * n_null + m] = q[i * n_null + m];
+      }
+
+    return coarse_null;
+  }
+
+
+
+  std::unique_ptr<Epetra_CrsMatrix>
+  AggregationMultigrid::galerkin_product(
+    const Level                         &level,
+    const std::vector<std::vector<int>> &rows_of,
+    const Epetra_Map                    &coarse_map) const
+  {
+    const Epetra_CrsMatrix &A            = *level.matrix;
+    const int               n_rows       = A.NumMyRows();
+    const unsigned int      n_null       = level.n_null;
+    const int               n_aggregates = rows_of.size();
+    // the aggregate (global) and prolongator row of every column of A:
+    // the rank's own rows, and the other ranks' (imported)
+    const int        first_coarse = coarse_map.MinMyGID() / n_null;
+    std::vector<int> row_of_column(A.NumMyCols()),
+      ghost_of_column(A.NumMyCols(), -1);
+    std::vector<int> ghost_gids;
+    for (int c = 0; c < A.NumMyCols(); ++c)
+      {
+        row_of_column[c] = A.RowMap().LID(A.ColMap().GID(c));
+        if (row_of_column[c] < 0)
+          {
+            ghost_of_column[c] = ghost_gids.size();
+            ghost_gids.push_back(A.ColMap().GID(c));
+          }
+      }
+    int n_ghosts = ghost_gids.size(), max_ghosts = 0;
+    A.Comm().MaxAll(&n_ghosts, &max_ghosts, 1);
+    std::unique_ptr<Epetra_MultiVector> ghosts;
+    if (max_ghosts > 0)
+      {
+        Epetra_MultiVector by_row(A.RowMap(), n_null + 1);
+        for (int r = 0; r < n_rows; ++r)
+          {
+            const int a  = level.aggregate_of_row[r];
+            by_row[0][r] = a < 0 ? -1. : double(first_coarse + a);
+            for (unsigned int m = 0; m < n_null; ++m)
+              by_row[m + 1][r] = level.prolongator[r * n_null + m];
+          }
+        const Epetra_Map ghost_map(
+          -1, n_ghosts, ghost_gids.data(), 0, A.Comm());
+        ghosts = std::make_unique<Epetra_MultiVector>(ghost_map, n_null + 1);
+        ghosts->Import(by_row, Epetra_Import(ghost_map, A.RowMap()), Insert);
+      }
+    const auto aggregate_of_column = [&](const int c) {
+      if (const int r = row_of_column[c]; r >= 0)
+        return level.aggregate_of_row[r] < 0 ?
+                 -1 :
+                 first_coarse + level.aggregate_of_row[r];
+      return static_cast<int>((*ghosts)[0][ghost_of_column[c]]);
+    };
+    const auto prolongator_of_column = [&](const int c, const int l) {
+      if (const int r = row_of_column[c]; r >= 0)
+        return double(level.prolongator[r * n_null + l]);
+      return (*ghosts)[l + 1][ghost_of_column[c]];
+    };
+
+    // P^T A P, aggregate by aggregate: the n_null x n_null blocks of its
+    // rows with the aggregates its rows couple to; first their number
+    // (the matrix is then allocated once, at its size)
+    std::vector<int>    neighbour_aggregates;
+    std::vector<double> blocks; // n_null^2 per neighbour
+    const auto          find_neighbours = [&](const int a) {
+      neighbour_aggregates.clear();
+      for (const int r : rows_of[a])
+        {
+          int     n_entries;
+          double *entries;
+          int    *columns;
+          A.ExtractMyRowView(r, n_entries, entries, columns);
+          for (int e = 0; e < n_entries; ++e)
+            if (const int b = aggregate_of_column(columns[e]);
+                b >= 0 && entries[e] != 0. &&
+                std::find(neighbour_aggregates.begin(),
+                          neighbour_aggregates.end(),
+                          b) == neighbour_aggregates.end())
+              neighbour_aggregates.push_back(b);
+        }
+      std::sort(neighbour_aggregates.begin(), neighbour_aggregates.end());
+    };
+    std::vector<int> row_lengths(std::size_t(n_aggregates) * n_null);
+    for (int a = 0; a < n_aggregates; ++a)
+      {
+        find_neighbours(a);
+        const int length =
+          std::max<int>(1, neighbour_aggregates.size() * n_null);
+        for (unsigned int k = 0; k < n_null; ++k)
+          row_lengths[a * n_null + k] = length;
+      }
+    auto coarse = std::make_unique<Epetra_CrsMatrix>(Copy,
+                                                     coarse_map,
+                                                     row_lengths.data(),
+                                                     /*static=*/true);
+    row_lengths = std::vector<int>();
+    std::vector<int>    indices;
+    std::vector<double> values;
+    for (int a = 0; a < n_aggregates; ++a)
+      {
+        find_neighbours(a);
+        blocks.assign(neighbour_aggregates.size() * n_null * n_null, 0.);
+        for (const int r : rows_of[a])
+          {
+            int     n_entries;
+            double *entries;
+            int    *columns;
+            A.ExtractMyRowView(r, n_entries, entries, columns);
+            const float *q_r = &level.prolongator[r * n_null];
+            for (int e = 0; e < n_entries; ++e)
+              {
+                const int c = columns[e];
+                const int b = aggregate_of_column(c);
+                if (b < 0 || entries[e] == 0.)
+                  continue;
+                const std::size_t slot =
+                  std::lower_bound(neighbour_aggregates.begin(),
+                                   neighbour_aggregates.end(),
+                                   b) -
+                  neighbour_aggregates.begin();
+                double *block_values = &blocks[slot * n_null * n_null];
+                for (unsigned int l = 0; l < n_null; ++l)
+                  {
+                    const double a_q = entries[e] * prolongator_of_column(c, l);
+                    for (unsigned int k = 0; k < n_null; ++k)
+                      block_values[k * n_null + l] += q_r[k] * a_q;
+                  }
+              }
+          }
+        const int self = first_coarse + a;
+        for (unsigned int k = 0; k < n_null; ++k)
+          {
+            indices.clear();
+            values.clear();
+            for (std::size_t s = 0; s < neighbour_aggregates.size(); ++s)
+              for (unsigned int l = 0; l < n_null; ++l)
+                {
+                  double value = blocks[(s * n_null + k) * n_null + l];
+                  // a direction the aggregate does not span: decoupled
+                  if (neighbour_aggregates[s] == self && k == l && value == 0.)
+                    value = 1.;
+                  indices.push_back(neighbour_aggregates[s] * n_null + l);
+                  values.push_back(value);
+                }
+            if (indices.empty()) // (an aggregate with no coupling at all)
+              {
+                indices.push_back(self * n_null + k);
+                values.push_back(1.);
+              }
+            const int error =
+              coarse->InsertGlobalValues(self * n_null + k,
+                                         static_cast<int>(indices.size()),
+                                         values.data(),
+                                         indices.data());
+            AssertThrow(error >= 0,
+                        ExcMessage("coarse operator: insertion failed"));
+          }
+      }
+    coarse->FillComplete(coarse_map, coarse_map);
+    coarse->OptimizeStorage();
+    return coarse;
+  }
+
+
+
+  void
+  AggregationMultigrid::factor_coarsest()
+  {
     // the coarsest level is solved directly, unless it is the masked finest
     // (then it is only smoothed)
     if (levels.size() > 1)

@@ -127,6 +127,42 @@ namespace Signorini
     double
     estimate_max_eigenvalue(const Level &level) const;
 
+    /// The inverse diagonal, the work vectors and the largest eigenvalue of
+    /// @p level's matrix.
+    void
+    allocate_work_vectors(Level &level) const;
+
+    /// The aggregates of @p level's rows (groups of @p block, the masked
+    /// rows of the finest level left out): sets its aggregate of each row,
+    /// sizes its prolongator for @p n_null columns, and returns their
+    /// number with the rows of each in @p rows_of.
+    int
+    aggregate_rows(Level                         &level,
+                   const std::vector<char>       &masked_row,
+                   const unsigned int             block,
+                   const unsigned int             n_null,
+                   std::vector<std::vector<int>> &rows_of) const;
+
+    /// The tentative prolongator of @p level from the near null space
+    /// @p null_space on the aggregates @p rows_of; returns the coarse near
+    /// null space, on @p coarse_map (n_null rows per aggregate).
+    std::unique_ptr<Epetra_MultiVector>
+    tentative_prolongator(Level                               &level,
+                          const Epetra_MultiVector            &null_space,
+                          const std::vector<std::vector<int>> &rows_of,
+                          const Epetra_Map &coarse_map) const;
+
+    /// P^T A P of @p level, on @p coarse_map.
+    std::unique_ptr<Epetra_CrsMatrix>
+    galerkin_product(const Level                         &level,
+                     const std::vector<std::vector<int>> &rows_of,
+                     const Epetra_Map                    &coarse_map) const;
+
+    /// The direct factorisation of the coarsest level, unless it is the
+    /// masked finest (then it is only smoothed).
+    void
+    factor_coarsest();
+
     AdditionalData                        data;
     std::vector<Level>                    levels;
     std::unique_ptr<Epetra_LinearProblem> coarsest_problem;
