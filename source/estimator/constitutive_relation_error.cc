@@ -464,6 +464,42 @@ namespace Signorini
 
 
     /**
+     * U^ without slip at the nodes whose rows stick: their free tangential
+     * components at the origin. The integral condition holds the weighted
+     * slips of the sticking rows, (M (t - origin))_i = 0, not the nodal
+     * ones, which a sliding or separated neighbour makes nonzero; the
+     * friction term multiplies them by s = mu |R^_n| (the 3D cube, every
+     * row in contact sticking: eps 39 % at mu = 1e3, 100 % at 1e10). A
+     * tangential change keeps U^ admissible (the contact direction is an
+     * axis), and e a bound.
+     */
+    template <int dim>
+    void
+    hold_sticking_nodes(const DiscreteContactProblem<dim> &problem,
+                        const FrictionState<dim>          &state,
+                        LA::Vector                        &admissible)
+    {
+      using Status                = typename FrictionState<dim>::Status;
+      const auto        &boundary = problem.boundary();
+      const auto        &rows     = boundary.multiplier_nodes();
+      const unsigned int c_star   = boundary.constrained_component();
+      const IndexSet     owned    = admissible.locally_owned_elements();
+      for (unsigned int i = 0; i < state.status.size(); ++i)
+        if (state.status[i] == Status::stick)
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              const types::global_dof_index dof =
+                boundary.node(rows[i]).dofs[c];
+              if (c != c_star && owned.is_element(dof) &&
+                  !problem.constraints().is_constrained(dof))
+                admissible[dof] = state.origin[rows[i]][c];
+            }
+      admissible.compress(VectorOperation::insert);
+    }
+
+
+
+    /**
      * The warning that the contact term of e uses the gap interpolated
      * between the nodes of GC, if g differs from it by @p gap_deviation
      * (the largest over the ranks) beyond round-off.
@@ -603,6 +639,8 @@ namespace Signorini
     const Vector<double> &normal_reaction = fields.normal_reaction;
     result.positive_multipliers           = fields.positive_multipliers;
     admissible_displacement               = fields.displacement;
+    if (with_friction)
+      hold_sticking_nodes(problem, *friction_state, admissible_displacement);
     const std::vector<Tensor<1, dim>> &tangential_reaction =
       fields.tangential_reaction;
 
