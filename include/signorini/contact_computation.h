@@ -325,8 +325,8 @@ namespace Signorini
 
     /// Throw an InputError when the stresses or the displacements of the
     /// data (largest magnitudes @p data on the mesh of diameter
-    /// domain_diameter()) are beyond what the range of doubles holds in
-    /// their squares.
+    /// domain_diameter()), or Coulomb's mu times those stresses, are beyond
+    /// what the range of doubles holds in their squares.
     void
     check_data_scale(
       const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
