@@ -241,11 +241,22 @@ namespace Signorini
                    "bring both within 1e-140 to 1e140";
         throw InputError(message.str());
       }
+    check_friction_coefficient_scale(log_stress);
+  }
+
+
+
+  template <int dim>
+  void
+  ContactComputation<dim>::check_friction_coefficient_scale(
+    const double log_stress) const
+  {
     // Coulomb's bound mu |R_n| (and the friction term of e, mu |R_n| times
     // a slip) likewise: mu = 1e300 on stresses of 1e9 gave eps = NaN
     const double mu = friction_law_.type() == FrictionLaw<dim>::Type::coulomb ?
                         friction_law_.coefficient() :
                         0.;
+    const double limit = 140.;
     if (mu > 0. && !(std::log10(mu) + log_stress < limit))
       {
         std::ostringstream message;
@@ -254,7 +265,7 @@ namespace Signorini
                 << " times the stresses of the data, of order 1e"
                 << std::lround(log_stress)
                 << ", is beyond what double precision resolves in their "
-                   "squares; below 1e"
+                   "squares: choose it below 1e"
                 << std::lround(limit - log_stress)
                 << " (the bonded limit is reached long before)";
         throw InputError(message.str());
@@ -278,20 +289,25 @@ namespace Signorini
     const double log_stress = std::log10(std::abs(material_law.young_modulus)) +
                               log_displacement - std::log10(mesh_diameter);
     const double limit = 140.;
-    if (log_displacement < limit && log_stress < limit)
-      return;
-    std::ostringstream message;
-    message << std::setprecision(2) << "Contact/Gap: its value " << -penetration
-            << " on GC moves the body by as much, giving "
-            << (log_displacement < limit ? "stresses" : "displacements")
-            << " of order 1e"
-            << std::lround(std::max(log_displacement, log_stress))
-            << " (Young modulus " << material_law.young_modulus << ", diameter "
-            << mesh_diameter
-            << "), beyond what double precision resolves in their squares: "
-               "choose units (of length, and of stress) that bring both "
-               "below 1e140";
-    throw InputError(message.str());
+    if (!(log_displacement < limit && log_stress < limit))
+      {
+        // (the larger of the two when both are out of range)
+        const bool stress =
+          !(log_displacement >= limit && log_displacement >= log_stress);
+        std::ostringstream message;
+        message << std::setprecision(2) << "Contact/Gap: its value "
+                << -penetration << " on GC moves the body by as much, giving "
+                << (stress ? "stresses" : "displacements") << " of order 1e"
+                << std::lround(stress ? log_stress : log_displacement)
+                << " (Young modulus " << material_law.young_modulus
+                << ", diameter " << mesh_diameter
+                << "), beyond what double precision resolves in their "
+                   "squares: choose units (of length, and of stress) that "
+                   "bring both below 1e140";
+        throw InputError(message.str());
+      }
+    // (and Coulomb's bound on the stresses the gap alone gives)
+    check_friction_coefficient_scale(log_stress);
   }
 
 
@@ -752,10 +768,7 @@ namespace Signorini
               load_step_observer(step);
             if (!last_solve_converged)
               {
-                std::ostringstream where;
-                where << "at Contact/Load steps step " << step << " of "
-                      << n_steps << " (t = " << load_path_.time(step) << "): ";
-                solve_failure = where.str() + solve_failure;
+                solve_failure = step_context(step) + solve_failure;
                 break;
               }
             previous = friction_state;

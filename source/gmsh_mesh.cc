@@ -499,9 +499,9 @@ namespace Signorini
         {
           std::ostringstream message;
           message.precision(3);
-          message << "the mesh is " << diameter << " across but reaches "
-                  << farthest
-                  << " from the origin: its coordinates are resolved only to "
+          message << "the mesh is " << diameter
+                  << " across but has a coordinate of " << farthest
+                  << ": double precision resolves its coordinates only to "
                   << resolution
                   << " (double precision), which moves its nodes; move the "
                      "origin into or near the mesh";

@@ -325,15 +325,23 @@ namespace Signorini
 
     /// Throw an InputError when the stresses or the displacements of the
     /// data (largest magnitudes @p data on the mesh of diameter
-    /// domain_diameter()), or Coulomb's mu times those stresses, are beyond
-    /// what the range of doubles holds in their squares.
+    /// domain_diameter()), or Coulomb's mu times those stresses
+    /// (check_friction_coefficient_scale()), are beyond what the range of
+    /// doubles holds in their squares.
     void
     check_data_scale(
       const typename BoundaryConditions<dim>::DataMagnitudes &data) const;
 
+    /// Throw an InputError when Coulomb's mu times stresses of order
+    /// 10^@p log_stress is beyond what the range of doubles holds in their
+    /// squares.
+    void
+    check_friction_coefficient_scale(const double log_stress) const;
+
     /// Throw an InputError when a negative Contact/Gap imposes
-    /// displacements, or the stresses they cause, beyond what the range of
-    /// doubles holds in their squares (as check_data_scale()).
+    /// displacements, or the stresses they cause (or Coulomb's mu times
+    /// those), beyond what the range of doubles holds in their squares (as
+    /// check_data_scale()).
     void
     check_gap_scale() const;
 

@@ -222,9 +222,11 @@ namespace Signorini
         LAPACKFullMatrix<double> H(n, n);
         for (unsigned int b = 0; b < n; ++b)
           {
-            const Vector<double> &c = *hessian_column(support[b]); // formed
+            // (formed when it entered the support)
+            const Vector<double> *c = hessian_column(support[b]);
+            Assert(c != nullptr, ExcInternalError());
             for (unsigned int a = 0; a < n; ++a)
-              H(a, b) = c[support[a]];
+              H(a, b) = (*c)[support[a]];
           }
         H.compute_lu_factorization();
         FullMatrix<double> jacobian(r, r);
@@ -372,7 +374,10 @@ namespace Signorini
           }
         else if (away_rate >= apex_rate)
           {
-            const Vector<double> &column = *dual.hessian_column(away); // formed
+            // (formed when it entered the support)
+            const Vector<double> *formed = dual.hessian_column(away);
+            Assert(formed != nullptr, ExcInternalError());
+            const Vector<double> &column = *formed;
             double                t      = g[away] / column[away];
             if (t >= y[away])
               {

@@ -422,20 +422,21 @@ namespace Signorini
     /**
      * The relative KKT residual of the solution @p u, @p y, @p state: the
      * normal conditions as ActiveSetSolver's, and the friction cone
-     * (relative to the forces of the problem too: Tresca acts without
-     * contact, where y = 0).
+     * (relative to the forces of the problem, @p load_scale, too: Tresca
+     * acts without contact, where y = 0).
      */
     template <int dim>
     double
     kkt_residual(const DiscreteContactProblem<dim> &problem,
                  const LA::Vector                  &u,
                  const Vector<double>              &y,
-                 const FrictionState<dim>          &state)
+                 const FrictionState<dim>          &state,
+                 const double                       load_scale)
     {
       const Vector<double> slack = problem.slack(u);
       const double scale_primal = std::max(problem.constraint_scale(u), 1e-300);
       const double scale_dual   = std::max(max_norm(y), 1e-300);
-      double       scale_force  = std::max(scale_dual, problem.force_scale());
+      double       scale_force  = std::max(scale_dual, load_scale);
       for (unsigned int i = 0; i < y.size(); ++i)
         scale_force = std::max(scale_force, state.bound[i]);
       double residual = 0.;
@@ -463,8 +464,8 @@ namespace Signorini
 
   template <int dim>
   void
-  FrictionState<dim>::reset(const unsigned int                 n_rows,
-                            const std::vector<Tensor<1, dim>> &origin)
+  FrictionState<dim>::reset(const unsigned int          n_rows,
+                            std::vector<Tensor<1, dim>> origin)
   {
     const std::size_t n_nodes = origin.size();
     status.assign(n_rows, Status::separated);
@@ -475,7 +476,7 @@ namespace Signorini
     bound.assign(n_rows, 0.);
     displacement.assign(n_nodes, Tensor<1, dim>());
     nodal_force.assign(n_nodes, Tensor<1, dim>());
-    this->origin = origin;
+    this->origin = std::move(origin);
   }
 
 
@@ -1103,7 +1104,7 @@ namespace Signorini
 
     sets = {active, stick, slip_force, spring, origin, cycled};
 
-    report.residual = kkt_residual(problem, u, y, state);
+    report.residual = kkt_residual(problem, u, y, state, load_scale);
     return report;
   }
 

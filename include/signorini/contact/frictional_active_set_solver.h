@@ -63,10 +63,12 @@ namespace Signorini
     unsigned int
     count(const Status s) const;
 
-    /// Every one of the @p n_rows rows separated, without force or slip, and
-    /// the nodes of GC at rest where they slide from, @p origin.
+    /// The fields of the rows and nodes cleared: each of the @p n_rows rows
+    /// separated, without force, slip or bound, each node of GC without
+    /// displacement or force, sliding from @p origin (the fixed point's and
+    /// the uniqueness check's figures are kept).
     void
-    reset(const unsigned int n_rows, const std::vector<Tensor<1, dim>> &origin);
+    reset(const unsigned int n_rows, std::vector<Tensor<1, dim>> origin);
 
     /// sum_k nodal_force_k
     Tensor<1, dim>
